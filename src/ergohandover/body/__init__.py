@@ -1,0 +1,1 @@
+"""The worker's body: anthropometry, URDF and kinematics."""

@@ -1,0 +1,316 @@
+"""Body size of the simulated worker: stature, mass, segment lengths, masses and joint limits.
+
+Everything scales from two numbers, stature and mass, with published population ratios, so a
+worker of any size in the valid range gets a consistent body. Sources and every ratio are listed
+in ``docs/anthropometry.md``; the short form is:
+
+* percentiles: ANSUR II (Gordon et al. 2014, NATICK/TR-15/007), US Army 2012;
+* segment lengths: Drillis & Contini (1966) fractions of stature as tabulated by Winter (2009),
+  plus a few landmarks that source lacks (lumbar, neck and head joints), which are estimates;
+* segment masses and centres of mass: Dempster via Winter (2009) Table 4.1;
+* joint ranges of motion: AAOS (1965) norms, with Kapandji for the spine's own share.
+
+All lengths are measured with the worker standing in the anatomical posture.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+from statistics import NormalDist
+
+STATURE_RANGE_M = (1.40, 2.10)
+MASS_RANGE_KG = (35.0, 160.0)
+SEXES = ("male", "female")
+
+
+class BodySpecError(ValueError):
+    """A body specification is outside what the model supports; the message is one line."""
+
+
+# ANSUR II (2012) summary statistics per sex: stature mean and SD [m], weight mean and SD [kg].
+_ANSUR2 = {
+    "male": (1.756, 0.0686, 85.5, 14.2),
+    "female": (1.629, 0.0640, 67.8, 11.4),
+}
+_PERCENTILE_Z = {"p5": NormalDist().inv_cdf(0.05), "p50": 0.0, "p95": NormalDist().inv_cdf(0.95)}
+
+
+def _percentile_table() -> dict[str, tuple[float, float, str]]:
+    """Stature and mass for each named percentile, derived from the ANSUR II mean and SD.
+
+    Stature is close to normal, so its percentile is mean + z SD. Body weight is right-skewed,
+    so a normal fit would put the median above the real one; a log-normal with the same mean and
+    SD is used instead. Stature and mass share one percentile: a "p5 worker" is small in both,
+    which is the usual design convention, not a multivariate percentile.
+    """
+    table = {}
+    for sex in ("female", "male"):
+        h_mean, h_sd, m_mean, m_sd = _ANSUR2[sex]
+        sigma = math.sqrt(math.log(1.0 + (m_sd / m_mean) ** 2))
+        mu = math.log(m_mean) - 0.5 * sigma**2
+        for name, z in _PERCENTILE_Z.items():
+            # Rounded to 1 mm and 0.1 kg, the resolution the survey reports.
+            stature = round(h_mean + z * h_sd, 3)
+            mass = round(math.exp(mu + z * sigma), 1)
+            table[f"{name}-{sex}"] = (stature, mass, sex)
+    return table
+
+
+PERCENTILES: dict[str, tuple[float, float, str]] = _percentile_table()
+"""Named percentile -> (stature [m], mass [kg], sex)."""
+
+_NECK = 0.855  # estimate: C7/T1 a little below the cervicale skin landmark (~0.86-0.87)
+_HEAD_JOINT = 0.914  # estimate: atlanto-occipital joint ~0.012 below the ear canal
+# Each vertical segment, bottom to top, with the height of its upper end above the floor
+# [fraction of stature], standing. Lengths are differences of consecutive heights, so the chain
+# sums to stature by construction.
+_VERTICAL = (
+    ("ankle_height", 0.039),  # ankle joint: Drillis & Contini / Winter
+    ("shank_length", 0.285),  # knee joint: Drillis & Contini / Winter
+    ("thigh_length", 0.530),  # hip joint: D&C / Winter greater trochanter, taken as the joint
+    ("pelvis_height", 0.585),  # estimate: L5/S1 about one vertebra below the iliac crests
+    ("trunk_length", _NECK),
+    ("neck_length", _HEAD_JOINT),
+    ("head_height", 1.000),  # vertex
+)
+_SHOULDER = 0.818  # Drillis & Contini / Winter: shoulder level, used as the shoulder joint
+_EYE = 0.936  # Drillis & Contini / Winter
+_EAR_CANAL = 0.926  # eye level minus ~0.010: tragion and orbitale share the Frankfort plane
+_HAND = 0.108  # Drillis & Contini / Winter: wrist to fingertip
+_FOOT = 0.152  # Drillis & Contini / Winter
+_SHOULDER_WIDTH = 0.210  # estimate: biacromial ~0.226 minus the joint centres' inset
+
+# Segment sizes that are not on the vertical chain, as fractions of stature.
+_OTHER_FRACTIONS = {
+    "shoulder_drop": _NECK - _SHOULDER,
+    "eye_height_above_head_joint": _EYE - _HEAD_JOINT,
+    "eye_forward": 0.050,  # estimate: cornea ~9 cm in front of the occipital condyles
+    "hip_width": 0.095,  # estimate after Bell et al. (1990): hip centres ~0.36 IAD from midline
+    "shoulder_width": _SHOULDER_WIDTH,
+    "clavicle_length": _SHOULDER_WIDTH / 2.0,
+    "upper_arm_length": 0.186,  # Drillis & Contini / Winter
+    "forearm_length": 0.146,  # Drillis & Contini / Winter
+    "hand_length": _HAND,
+    "grip_offset": 0.40 * _HAND,  # estimate: a fist closes round a handle ~0.4 down the hand
+    "foot_length": _FOOT,
+    "foot_width": 0.055,  # Drillis & Contini / Winter
+    "heel_to_ankle": 0.22 * _FOOT,  # estimate: malleoli ~1/5 of the foot from the heel
+    # Collision/visual sizes. Widths are kept below the real chest and hip breadths so that
+    # hanging arms clear the trunk and pelvis shapes and the thighs clear the hands.
+    "trunk_depth": 0.130,  # ~chest depth (ANSUR ~0.14)
+    "trunk_width": 0.150,
+    "pelvis_width": 0.160,  # Winter's hip breadth is 0.191; narrowed as said above
+    "head_radius": 0.052,  # head circumference ~0.325 of stature / 2 pi
+    "upper_arm_radius": 0.026,
+    "forearm_radius": 0.020,
+    "thigh_radius": 0.036,
+    "shank_radius": 0.028,
+}
+
+
+@dataclass(frozen=True)
+class Segments:
+    """Segment lengths and shape sizes of one worker [m], standing anatomical posture.
+
+    The vertical chain ``ankle_height + shank_length + thigh_length + pelvis_height +
+    trunk_length + neck_length + head_height`` equals stature.
+    """
+
+    ankle_height: float  # floor to ankle joint centre
+    shank_length: float  # ankle joint to knee joint
+    thigh_length: float  # knee joint to hip joint
+    pelvis_height: float  # hip joint centres to lumbar joint (L5/S1), vertical
+    trunk_length: float  # lumbar joint to neck joint (C7/T1)
+    shoulder_drop: float  # neck joint down to the line through the shoulder joints
+    neck_length: float  # C7/T1 to the head-neck (atlanto-occipital) joint
+    head_height: float  # head-neck joint to the vertex
+    eye_height_above_head_joint: float
+    eye_forward: float  # eyes in front of the head-neck joint
+    hip_width: float  # between the hip joint centres
+    shoulder_width: float  # between the shoulder joint centres
+    clavicle_length: float  # mid-line (sternoclavicular region) to shoulder joint
+    upper_arm_length: float  # shoulder to elbow joint
+    forearm_length: float  # elbow to wrist joint
+    hand_length: float  # wrist to fingertip
+    grip_offset: float  # wrist to the centre of a power grip, along the hand
+    foot_length: float
+    foot_width: float
+    heel_to_ankle: float  # back of the heel to the ankle joint, horizontal
+    trunk_depth: float
+    trunk_width: float
+    pelvis_width: float
+    head_radius: float
+    upper_arm_radius: float
+    forearm_radius: float
+    thigh_radius: float
+    shank_radius: float
+
+    @property
+    def knee_height(self) -> float:
+        """Floor to knee joint, standing [m]."""
+        return self.ankle_height + self.shank_length
+
+    @property
+    def hip_height(self) -> float:
+        """Floor to hip joint centres, standing [m]."""
+        return self.knee_height + self.thigh_length
+
+    @property
+    def neck_joint_height(self) -> float:
+        """Floor to the neck joint (C7/T1), standing [m]."""
+        return self.hip_height + self.pelvis_height + self.trunk_length
+
+    @property
+    def shoulder_height(self) -> float:
+        """Floor to the shoulder joint centres, standing [m]."""
+        return self.neck_joint_height - self.shoulder_drop
+
+
+@dataclass(frozen=True)
+class SegmentMass:
+    """Mass of one body segment and where its centre of mass lies.
+
+    Attributes:
+        mass_kg: Segment mass [kg].
+        com_fraction: Centre of mass along the segment from its proximal joint [fraction of the
+            segment's reference length]; the reference line of each segment is tabulated in
+            ``docs/anthropometry.md``.
+    """
+
+    mass_kg: float
+    com_fraction: float
+
+
+# Winter (2009) Table 4.1 (Dempster): fraction of body mass, COM from the proximal joint.
+# Proximal means nearer the pelvis, the model's root. Where our segment differs from Dempster's
+# the COM is re-expressed on ours: trunk = thorax + abdomen (COM 0.63 from C7/T1, so 0.37 from
+# the lumbar joint); pelvis measured up from the hip joints (Winter 0.105 down from L4/L5);
+# head_neck COM at the ear canal, on the line C7/T1 to vertex; hand COM 0.506 of wrist to the
+# middle finger's second knuckle, which is ~0.79 of hand length, so ~0.40 of hand length.
+_MASS = {
+    "foot": (0.0145, 0.50),  # along ankle -> head of metatarsal II (Winter's line)
+    "shank": (0.0465, 0.433),
+    "thigh": (0.100, 0.433),
+    "pelvis": (0.142, 1.0 - 0.105),
+    "trunk": (0.355, 1.0 - 0.63),
+    "head_neck": (0.081, (_EAR_CANAL - _NECK) / (1.0 - _NECK)),
+    "upper_arm": (0.028, 0.436),
+    "forearm": (0.016, 0.430),
+    "hand": (0.006, 0.40),
+}
+PAIRED_SEGMENTS = frozenset({"foot", "shank", "thigh", "upper_arm", "forearm", "hand"})
+
+# Range of motion [deg] as (lower, upper), positive in the direction the name says. AAOS (1965)
+# unless noted. Trunk flexion is shared by the hip and lumbar joints, so the lumbar joint gets
+# the spine's own share (Kapandji: ~60 deg lumbar flexion), not the whole-trunk range.
+_AXIAL_LIMITS = {
+    "ankle_flexion": (-50.0, 20.0),  # plantarflexion 50, dorsiflexion 20
+    "knee_flexion": (0.0, 135.0),
+    "hip_flexion": (-30.0, 120.0),
+    "lumbar_flexion": (-25.0, 60.0),  # extension 25 (AAOS thoracolumbar), flexion: Kapandji
+    "lumbar_side_bend": (-35.0, 35.0),
+    "lumbar_twist": (-45.0, 45.0),
+    "neck_flexion": (-45.0, 45.0),
+    "neck_side_bend": (-45.0, 45.0),
+    "neck_twist": (-60.0, 60.0),
+}
+_ARM_LIMITS = {
+    "clavicle_elevation": (-10.0, 35.0),  # estimate: shoulder-girdle shrug at the SC joint
+    "shoulder_flexion": (-60.0, 180.0),
+    "shoulder_abduction": (-30.0, 180.0),  # adduction across the body: Kapandji 30-45
+    "shoulder_rotation": (-90.0, 70.0),  # external 90, internal 70
+    "elbow_flexion": (0.0, 150.0),
+    "forearm_pronation": (-80.0, 80.0),  # supination 80, pronation 80
+    "wrist_flexion": (-70.0, 80.0),  # extension 70, flexion 80
+    "wrist_deviation": (-20.0, 30.0),  # radial 20, ulnar 30
+}
+
+
+def _check_range(field: str, value: object, valid: tuple[float, float], unit: str) -> None:
+    """Raise BodySpecError unless ``value`` is a finite real number within ``valid``."""
+    lo, hi = valid
+    decimals = 2 if unit == "m" else 0
+    span = f"{lo:.{decimals}f}-{hi:.{decimals}f} {unit}"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise BodySpecError(f"{field} = {value!r} is not a number; the valid range is {span}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise BodySpecError(f"{field} = {number!r} is not finite; the valid range is {span}")
+    if not lo <= number <= hi:
+        raise BodySpecError(f"{field} = {number!r} is outside the valid range {span}")
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """Size of one worker; the default is the ANSUR II 50th-percentile man.
+
+    Attributes:
+        stature_m: Standing height [m], 1.40-2.10.
+        mass_kg: Body mass [kg], 35-160.
+        sex: "male" or "female"; it selects percentiles only, since the ratio sources used for
+            lengths, masses and joint limits do not distinguish sex.
+    """
+
+    stature_m: float = PERCENTILES["p50-male"][0]
+    mass_kg: float = PERCENTILES["p50-male"][1]
+    sex: str = "male"
+
+    def __post_init__(self) -> None:
+        """Validate the fields so that an impossible body fails here, not deep in a simulation."""
+        _check_range("stature_m", self.stature_m, STATURE_RANGE_M, "m")
+        _check_range("mass_kg", self.mass_kg, MASS_RANGE_KG, "kg")
+        if self.sex not in SEXES:
+            raise BodySpecError(
+                f"sex = {self.sex!r} is not valid; the valid values are {', '.join(SEXES)}"
+            )
+
+    @classmethod
+    def from_percentile(cls, name: str) -> BodySpec:
+        """Worker of a named ANSUR II percentile, e.g. ``"p5-female"`` or ``"p95-male"``.
+
+        Args:
+            name: One of the keys of ``PERCENTILES``.
+
+        Returns:
+            The body with that percentile's stature [m], mass [kg] and sex.
+
+        Raises:
+            BodySpecError: If the name is unknown; the message lists the valid names.
+        """
+        if name not in PERCENTILES:
+            raise BodySpecError(
+                f"unknown percentile {name!r}; the valid names are {', '.join(PERCENTILES)}"
+            )
+        stature, mass, sex = PERCENTILES[name]
+        return cls(stature_m=stature, mass_kg=mass, sex=sex)
+
+    def segments(self) -> Segments:
+        """Segment lengths and shape sizes [m], all proportional to stature."""
+        h = self.stature_m
+        tops = [top for _, top in _VERTICAL]
+        bottoms = [0.0, *tops[:-1]]
+        vertical = {n: (t - b) * h for (n, t), b in zip(_VERTICAL, bottoms, strict=True)}
+        other = {n: f * h for n, f in _OTHER_FRACTIONS.items()}
+        return Segments(**vertical, **other)
+
+    def segment_masses(self) -> dict[str, SegmentMass]:
+        """Mass [kg] and COM fraction of each segment; paired ones are per side.
+
+        The Winter fractions sum to 1.000 already; they are divided by their sum anyway so the
+        segments (paired ones counted twice) add up to ``mass_kg`` to rounding error.
+        """
+        total = sum(f * (2 if n in PAIRED_SEGMENTS else 1) for n, (f, _) in _MASS.items())
+        return {n: SegmentMass(self.mass_kg * f / total, c) for n, (f, c) in _MASS.items()}
+
+    def joint_limits_deg(self) -> dict[str, tuple[float, float]]:
+        """Lower and upper joint limits [deg], positive in the named direction.
+
+        Arm joints appear twice, with ``left_`` and ``right_`` prefixes and identical values:
+        the signed conventions mirror between sides, so the numbers do not.
+        """
+        limits = dict(_AXIAL_LIMITS)
+        for side in ("left", "right"):
+            limits.update({f"{side}_{n}": lim for n, lim in _ARM_LIMITS.items()})
+        return limits

@@ -1,0 +1,44 @@
+"""The ``ergohandover`` command line: sub-commands, and one-line errors with exit code 2."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import __version__
+from .atomic import OutputError
+from .commands import score
+from .ergonomics import PostureError, SettingsError
+
+COMMANDS = (score,)
+# Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
+USER_ERRORS = (PostureError, SettingsError, OutputError, FileNotFoundError, IsADirectoryError,
+               PermissionError, UnicodeDecodeError)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ergohandover",
+        description="Find where a robot should hand a box to a worker so that the worker's "
+        "posture is as safe as possible, scored with REBA, RULA and the paper's score.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for command in COMMANDS:
+        command.add_parser(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except USER_ERRORS as exc:
+        message = str(exc) if not isinstance(exc, OSError) or exc.filename is None else (
+            f"{exc.filename}: {exc.strerror}")
+        print(f"ergohandover {args.command}: error: {message}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,22 @@
+"""Shared fixtures: a neutral posture to perturb one column at a time."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ergohandover.ergonomics import REQUIRED_COLUMNS, Posture
+
+
+def neutral_columns(**overrides: float) -> dict[str, np.ndarray]:
+    """One upright posture (elbows at 80°) with ``overrides``, as length-1 columns."""
+    values = {name: 0.0 for name in REQUIRED_COLUMNS}
+    values.update(left_elbow_flexion=80.0, right_elbow_flexion=80.0)
+    values.update(overrides)
+    return {name: np.array([value], dtype=float) for name, value in values.items()}
+
+
+@pytest.fixture
+def neutral():
+    """Factory: ``neutral(trunk_flexion=30)`` -> a one-row Posture."""
+    return lambda **overrides: Posture(neutral_columns(**overrides))
