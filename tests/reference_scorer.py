@@ -110,10 +110,7 @@ def rula(p: dict, s) -> dict:
         force = 0
     extra = int(p["muscle_use"]) + force
     n = p["neck_flexion"]
-    if not within(-n, tol):
-        neck = 4
-    else:
-        neck = 1 if within(n, 10) else 2 if within(n, 20) else 3
+    neck = 4 if not within(-n, tol) else 1 if within(n, 10) else 2 if within(n, 20) else 3
     neck += exceeds(p["neck_twist"], s.twist_from_deg)
     neck += exceeds(p["neck_side_bend"], s.side_bend_from_deg)
     f = p["trunk_flexion"]

@@ -51,7 +51,7 @@ def numeric_columns(frame: pd.DataFrame, names: list[str]) -> dict[str, np.ndarr
             shown = repr(cell) if cell else "an empty cell"
             raise PostureError(
                 f"row {row + 1}, column '{name}': {shown} is not a number "
-                f"(expected {COLUMN_BY_NAME[name].allowed if name in COLUMN_BY_NAME else 'a number'})",
+                f"(expected {COLUMN_BY_NAME[name].allowed})",
                 row=row + 1, column=name, value=cell,
             )
         out[name] = values

@@ -130,10 +130,11 @@ class Posture(Mapping[str, np.ndarray]):
                 values = np.asarray(columns[col.name], dtype=np.float64).view()
                 bad = _first_bad(values, col)
                 if bad is not None:
+                    shown = f"{values[bad]:g}"
                     raise PostureError(
-                        f"row {bad + 1}, column '{col.name}': {values[bad]!r} is not allowed "
+                        f"row {bad + 1}, column '{col.name}': {shown} is not allowed "
                         f"(expected {col.allowed})",
-                        row=bad + 1, column=col.name, value=repr(values[bad]),
+                        row=bad + 1, column=col.name, value=shown,
                     )
             else:
                 values = np.full(n, float(col.default))

@@ -1,0 +1,45 @@
+"""The README tells the truth: its test command is the one CI runs, its example output is real."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pandas as pd
+
+from ergohandover.ergonomics import score_postures
+from ergohandover.posture_csv import read_postures
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+
+
+def bash_blocks(text: str) -> list[str]:
+    return [b.strip() for b in re.findall(r"```bash\n(.*?)```", text, re.S)]
+
+
+def test_readme_starts_with_the_two_commands_and_ci_runs_the_test_one():
+    main_job, tests = bash_blocks(README)[:2]
+    assert main_job.endswith("experiments/run_all.py")
+    assert "pytest" in tests
+    ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert tests in ci_lines, "the README's test command must appear verbatim in .ci/run"
+
+
+def test_readme_example_csv_is_the_example_file():
+    block = re.search(r"```csv\n(.*?)```", README, re.S).group(1)
+    assert block == (ROOT / "examples" / "postures.csv").read_text()
+
+
+def test_readme_example_scores_are_the_real_output():
+    table_text = README.split("<!-- example-scores")[1].split("\n\n")[0]
+    rows = [line.strip("|").split("|") for line in table_text.splitlines()[1:]
+            if line.startswith("|") and not line.startswith("|---")]
+    header, *body = [[cell.strip() for cell in row] for row in rows]
+    text, posture = read_postures(ROOT / "examples" / "postures.csv")
+    scores = pd.DataFrame(score_postures(posture))
+    assert len(body) == len(text) == 3
+    for i, row in enumerate(body):
+        assert row[0] == text["name"][i]
+        for name, cell in zip(header[1:], row[1:], strict=True):
+            assert int(cell) == scores[name][i], (text["name"][i], name)
