@@ -15,7 +15,8 @@ class OutputError(OSError):
     """An output location that cannot be written; the message is one line."""
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[IO[str]], None]) -> Path:
+def atomic_write(path: str | os.PathLike, write: Callable[[IO], None],
+                 binary: bool = False) -> Path:
     """Write a text file through ``write(handle)`` to a temporary file, then rename it.
 
     The temporary file sits beside the target (same file system, so the rename is atomic) and
@@ -23,7 +24,8 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO[str]], None]) -> P
 
     Args:
         path: the file to create or replace.
-        write: fills the open text handle.
+        write: fills the open handle.
+        binary: open the handle in binary rather than text mode.
 
     Returns:
         The path written.
@@ -37,7 +39,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO[str]], None]) -> P
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
-        with os.fdopen(fd, "w", newline="") as handle:
+        with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", newline="")) as handle:
             write(handle)
         os.replace(tmp, path)
     except BaseException:

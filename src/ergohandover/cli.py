@@ -7,12 +7,17 @@ import sys
 
 from . import __version__
 from .atomic import OutputError
-from .commands import score
+from .body.anthropometry import BodySpecError
+from .commands import evaluate, score
+from .csv_input import InputError
 from .ergonomics import PostureError, SettingsError
+from .evaluate import EvaluationError
+from .task import TaskSpecError
 
-COMMANDS = (score,)
+COMMANDS = (score, evaluate)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
-USER_ERRORS = (PostureError, SettingsError, OutputError, FileNotFoundError, IsADirectoryError,
+USER_ERRORS = (InputError, PostureError, SettingsError, BodySpecError, TaskSpecError,
+               EvaluationError, OutputError, FileNotFoundError, IsADirectoryError,
                PermissionError, UnicodeDecodeError)
 
 

@@ -43,3 +43,27 @@ def dataclass_from_args(cls: type[T], args: argparse.Namespace) -> T:
         if getattr(args, f.name, None) is not None
     }
     return cls(**given)
+
+
+def add_body_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--percentile``, ``--stature``, ``--mass``, ``--sex``: the worker's size."""
+    from .body.anthropometry import PERCENTILES
+
+    group = parser.add_argument_group("worker (default: ANSUR II 50th-percentile man)")
+    group.add_argument("--percentile", choices=sorted(PERCENTILES),
+                       help="a named survey percentile (stature, mass and sex together)")
+    group.add_argument("--stature", type=float, metavar="M", help="stature [m], 1.40-2.10")
+    group.add_argument("--mass", type=float, metavar="KG", help="body mass [kg], 35-160")
+    group.add_argument("--sex", choices=("male", "female"), help="sex")
+
+
+def body_from_args(args: argparse.Namespace):
+    """The BodySpec the flags describe: a percentile, then any explicit overrides."""
+    import dataclasses
+
+    from .body.anthropometry import BodySpec
+
+    body = BodySpec.from_percentile(args.percentile) if args.percentile else BodySpec()
+    overrides = {k: v for k, v in (("stature_m", args.stature), ("mass_kg", args.mass),
+                                   ("sex", args.sex)) if v is not None}
+    return dataclasses.replace(body, **overrides) if overrides else body

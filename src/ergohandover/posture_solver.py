@@ -42,10 +42,10 @@ from .warm_start import StartLattice
 # elbow - reaching with the upper arm or unfolding the forearm; wrist/pronation - how much
 # the hand, rather than the arm, adapts to the handle.
 JOINT_PREFERENCE: dict[str, tuple[float, float]] = {
-    "ankle_flexion": (0.0, 1.5),
-    "knee_flexion": (0.0, 0.8),
-    "hip_flexion": (0.0, 0.5),
-    "lumbar_flexion": (0.0, 0.8),
+    "ankle_flexion": (0.0, 4.0),
+    "knee_flexion": (0.0, 1.5),
+    "hip_flexion": (0.0, 1.5),
+    "lumbar_flexion": (0.0, 2.5),
     "lumbar_side_bend": (0.0, 3.0),
     "lumbar_twist": (0.0, 3.0),
     "neck_flexion": (0.0, 0.4),
@@ -64,6 +64,20 @@ JOINT_PREFERENCE: dict[str, tuple[float, float]] = {
 START_POSTURE_DEG = {"shoulder_flexion": 20.0, "elbow_flexion": 80.0}
 SIGHT_PITCH_DEG = 15.0  # natural line of sight below the head's horizontal (Grandjean)
 EYE_CONE_DEG = 25.0  # eye rotation from the natural line of sight held without strain
+
+
+def support_rectangle(body: BodySpec) -> tuple[float, float, float, float]:
+    """The feet's support rectangle (x0, x1, y0, y1), heel to toe and outer edge to outer
+    edge, world frame [m]."""
+    seg = body.segments()
+    half = seg.hip_width / 2 + seg.foot_width / 2
+    return (-seg.heel_to_ankle, seg.foot_length - seg.heel_to_ankle, -half, half)
+
+
+def handover_targets(task: TaskSpec, locations: np.ndarray) -> Targets:
+    """Handles and box centre in the world frame for (N, 3) worker-frame box locations."""
+    left, right = task.handles(locations)
+    return Targets(worker_to_world(left), worker_to_world(right), worker_to_world(locations))
 
 
 @dataclass(frozen=True)
@@ -117,10 +131,7 @@ class PostureSolver:
         self.task = task or TaskSpec()
         self.settings = settings or SolverSettings()
         self.model = KinematicModel(build_skeleton(self.body))
-        seg = self.body.segments()
-        half = seg.hip_width / 2 + seg.foot_width / 2
-        # The feet's support rectangle, heel to toe and outer edge to outer edge (world frame).
-        self.support = (-seg.heel_to_ankle, seg.foot_length - seg.heel_to_ankle, -half, half)
+        self.support = support_rectangle(self.body)
         base = [n.removeprefix("left_").removeprefix("right_") for n in self.model.joint_names]
         self.neutral = np.radians([JOINT_PREFERENCE[b][0] for b in base])  # (nq,)
         self.preference = np.array([JOINT_PREFERENCE[b][1] for b in base])  # (nq,)
@@ -148,8 +159,7 @@ class PostureSolver:
 
     def targets(self, locations: np.ndarray) -> Targets:
         """Handles and box centre in the world frame for (N, 3) worker-frame locations."""
-        left, right = self.task.handles(locations)
-        return Targets(worker_to_world(left), worker_to_world(right), worker_to_world(locations))
+        return handover_targets(self.task, locations)
 
     def iterate(self, locations: np.ndarray, start: np.ndarray, iterations: int) -> Solution:
         """Run ``iterations`` Levenberg-Marquardt steps from ``start`` (N, nq) [rad]."""

@@ -177,7 +177,9 @@ def load_worker(
         The body id, joint name -> joint index and link name -> link index, read back from
         PyBullet by name (PyBullet numbers joints in its own tree order).
     """
-    import pybullet  # imported here: it prints a banner on import, unwanted by URDF-only users
+    from ergohandover.sim import pybullet as _pybullet
+
+    pybullet = _pybullet()  # imported here, quietly: URDF-only users need no simulator
 
     def call(fn: str, *args, **kwargs):
         if isinstance(client, int):

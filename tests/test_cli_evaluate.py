@@ -1,0 +1,64 @@
+"""``ergohandover evaluate`` end to end: CSV out, renders, and one-line errors for bad points."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+from PIL import Image
+
+from ergohandover.cli import main
+from ergohandover.evaluate import EVALUATION_COLUMNS
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "ergohandover.cli", *args],
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_evaluates_points_and_renders_one_png_each(tmp_path):
+    points = tmp_path / "points.csv"
+    points.write_text("x,y,z\n0,1.10,0.35\n0.1,1.3,0.45\n")
+    out, renders = tmp_path / "eval.csv", tmp_path / "renders"
+    assert main(["evaluate", "--points", str(points), "--output", str(out), "--render",
+                 str(renders), "--workers", "1"]) == 0
+    table = pd.read_csv(out, keep_default_na=False)
+    assert list(table.columns) == list(EVALUATION_COLUMNS)
+    assert table["feasible"].tolist() == [1, 1]
+    pngs = sorted(renders.glob("*.png"))
+    assert [p.name for p in pngs] == ["point_0001.png", "point_0002.png"]
+    image = Image.open(pngs[0])
+    assert image.width == 960 and image.height > 480
+    # Not a blank frame: the worker and the box put many colours in it.
+    assert len(image.convert("RGB").getcolors(maxcolors=1 << 20)) > 50
+
+
+def test_stdout_is_pure_csv_and_body_flags_change_the_worker():
+    result = subprocess.run(
+        [sys.executable, "-m", "ergohandover.cli", "evaluate", "--points", "-", "--output", "-",
+         "--percentile", "p5-female", "--solver", "pybullet"],
+        input="x,y,z\n0,1.0,0.35\n", capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("x,y,z,feasible") and len(lines) == 2
+
+
+@pytest.mark.parametrize(("content", "args", "message"), [
+    ("x,y\n0,1\n", (), "missing required column 'z'"),
+    ("x,y,z\n0,1,abc\n", (), "row 1, column 'z': 'abc' is not a number"),
+    ("x,y,z\n0,1,0.4\n0,nan,0.4\n", (), "row 2, column 'y': nan is not allowed"),
+    ("", (), "is empty"),
+    ("x,y,z\n0,1,0.4\n", ("--stature", "2.5"), "stature_m = 2.5 is outside the valid range"),
+    ("x,y,z\n0,1,0.4\n", ("--workers", "0"), "workers = 0"),
+])
+def test_bad_points_or_flags_exit_2_with_one_line(tmp_path, content, args, message):
+    points = tmp_path / "points.csv"
+    points.write_text(content)
+    out = tmp_path / "eval.csv"
+    result = run_cli("evaluate", "--points", str(points), "--output", str(out), *args)
+    assert result.returncode == 2
+    assert message in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.stderr
+    assert not out.exists()
