@@ -8,16 +8,17 @@ import sys
 from . import __version__
 from .atomic import OutputError
 from .body.anthropometry import BodySpecError
-from .commands import evaluate, score
+from .commands import evaluate, score, sweep
 from .csv_input import InputError
 from .ergonomics import PostureError, SettingsError
 from .evaluate import EvaluationError
+from .landscape import LandscapeError
 from .task import TaskSpecError
 
-COMMANDS = (score, evaluate)
+COMMANDS = (score, evaluate, sweep)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
 USER_ERRORS = (InputError, PostureError, SettingsError, BodySpecError, TaskSpecError,
-               EvaluationError, OutputError, FileNotFoundError, IsADirectoryError,
+               EvaluationError, LandscapeError, OutputError, FileNotFoundError, IsADirectoryError,
                PermissionError, UnicodeDecodeError)
 
 

@@ -28,7 +28,8 @@ SOLVERS = ("numpy", "pybullet")
 HAND_TOLERANCE_M = 0.01
 REASONS = ("hand_miss", "box_collision", "unbalanced")
 """Why a location is infeasible: a hand misses its handle by more than 1 cm; the box
-intersects the torso, head or legs; the centre of mass (box included) leaves the feet."""
+intersects the torso, head or legs; the centre of mass (box included) leaves the feet.
+Compact files store them as bits of a ``flags`` byte, in this order (bit 0 = hand_miss)."""
 EVALUATION_COLUMNS = ("x", "y", "z", "feasible", "reason", "hand_error_m", *POSTURE_COLUMNS,
                       *SCORE_COLUMNS)
 CHUNK = 500  # locations per solver call: small enough to stay in cache
@@ -87,14 +88,16 @@ def _evaluate_chunk(evaluator: Evaluator, locations: np.ndarray) -> dict[str, np
         "unbalanced": ~((com[:, 0] >= x0) & (com[:, 0] <= x1) & (com[:, 1] >= y0)
                         & (com[:, 1] <= y1)),
     }
+    flags = np.zeros(len(locations), dtype=np.uint8)
     reason = np.full(len(locations), "", dtype=object)
-    for name in REASONS:
+    for bit, name in enumerate(REASONS):
+        flags |= problems[name].astype(np.uint8) << bit
         reason = np.where(problems[name], np.where(reason == "", name, reason + ";" + name),
                           reason)
     scores = score_postures(Posture(columns), evaluator.scoring)
     return {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
-            "feasible": reason == "", "reason": reason, "hand_error_m": solution.hand_error,
-            **columns, **scores}
+            "feasible": flags == 0, "reason": reason, "hand_error_m": solution.hand_error,
+            "flags": flags, **columns, **scores}
 
 
 def _run(args):
