@@ -1,55 +1,109 @@
-"""Run every study of ergohandover and write results/ (with a manifest.json beside each).
+"""Run the whole study and build every table and figure: python experiments/run_all.py
 
-Today this runs the parts that exist: it scores the example posture table
-(``examples/postures.csv``) with REBA, RULA and the paper's postural score into
-``results/example_scores/scores.csv``. The landscape sweep, the learners, the baselines and the
-participant study join this script as they are built (see README, "What runs today").
+Parts, in order (each resumable: a finished part is reused from its manifest.json):
+  landscape     the exhaustive sweep of the default worker (the paper's 3-hour evaluation)
+  learning      the paper's protocol (Q-learning, 10 runs x 2 caps) and DQN, random search,
+                hill-climbing on the same caps
+  baselines     the shortest-distance vs the optimised location from the paper's five starts
+  ablations     objective, temperature schedule, human IK (ours vs PyBullet's)
+  participants  the VR participant study, simulated with six workers of different sizes
+  figures       results/tables.md and paper_figs/*.png, built only from results/
+
+--quick runs every part on coarse grids and second-long caps (a few minutes) into
+results/quick/ and paper_figs/quick/; it is what the smoke test runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
+import json
+import os
+import subprocess
 import sys
 import time
 from pathlib import Path
 
-import pandas as pd
-
-from ergohandover.atomic import atomic_write_csv
-from ergohandover.ergonomics import ScoringSettings, score_postures
-from ergohandover.manifest import write_manifest
-from ergohandover.posture_csv import read_postures
-
 ROOT = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve().parent
+PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "figures")
+# Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
+# at the start; parts already finished are not counted.
+ESTIMATE_S = {"default": {"landscape": 290, "learning": 420, "baselines": 120,
+                          "ablations": 360, "participants": 240, "figures": 30},
+              "quick": {"landscape": 10, "learning": 30, "baselines": 30, "ablations": 30,
+                        "participants": 20, "figures": 20}}
+FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
+                  "fig_participants", "make_tables")
 
 
-def score_examples(results: Path) -> Path:
-    start = time.perf_counter()
-    settings = ScoringSettings()
-    source = ROOT / "examples" / "postures.csv"
-    text, posture = read_postures(source, what=str(source))
-    table = pd.concat([text, pd.DataFrame(score_postures(posture, settings))], axis=1)
-    folder = results / "example_scores"
-    folder.mkdir(parents=True, exist_ok=True)
-    out = atomic_write_csv(table, folder / "scores.csv")
-    write_manifest(out, config={"input": str(source.relative_to(ROOT)), "settings": settings},
-                   seeds={}, wall_time_s=time.perf_counter() - start)
-    return out
+def parse(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     epilog="\n".join(__doc__.splitlines()[2:]))
+    parser.add_argument("--quick", action="store_true",
+                        help="coarse grids and short caps (minutes), into results/quick/")
+    parser.add_argument("--only", choices=PARTS, action="append", metavar="PART",
+                        help=f"run only this part (repeatable): {', '.join(PARTS)}")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                        help="processes (default: all cores)")
+    parser.add_argument("--force", action="store_true", help="rerun parts even if finished")
+    parser.add_argument("--config", type=Path, help="a config JSON (default: "
+                        "experiments/configs/default.json, or quick.json with --quick)")
+    parser.add_argument("--results", type=Path, help="results folder (default: results/, or "
+                        "results/quick/ with --quick)")
+    parser.add_argument("--figures", type=Path, help="figures folder (default: paper_figs/, "
+                        "or paper_figs/quick/ with --quick)")
+    args = parser.parse_args(argv)
+    if args.workers < 1:
+        parser.error(f"--workers {args.workers}: must be at least 1")
+    return args
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--results", type=Path, default=ROOT / "results",
-                        help="directory to write results into (default: results/)")
-    args = parser.parse_args(argv)
-    args.results.mkdir(parents=True, exist_ok=True)
+    args = parse(argv)
+    mode = "quick" if args.quick else "default"
+    config_path = args.config or HERE / "configs" / f"{mode}.json"
+    config = json.loads(config_path.read_text())
+    results = args.results or ROOT / "results" / ("quick" if args.quick else "")
+    figures = args.figures or ROOT / "paper_figs" / ("quick" if args.quick else "")
+    parts = args.only or list(PARTS)
+    from ergohandover.study import is_done
+
+    todo = [p for p in parts if p == "figures" or args.force
+            or not is_done(results / p, {**config.get(p, {}), **_extra(p, config)})]
+    estimate = sum(ESTIMATE_S[mode][p] for p in todo)
+    print(f"run_all ({mode}, config {config_path.name}, {args.workers} workers): parts "
+          f"{', '.join(parts)}; estimated {estimate / 60:.0f} min for {', '.join(todo)}")
     start = time.perf_counter()
-    print("ergohandover run_all: scoring the example postures (the only study built so far)")
-    out = score_examples(args.results)
-    print(f"  wrote {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out}")
-    print(f"done in {time.perf_counter() - start:.1f} s")
+    for part in parts:
+        t0 = time.perf_counter()
+        print(f"== {part}")
+        if part == "figures":
+            build_figures(results, figures)
+        else:
+            module = importlib.import_module(f"study_{part}")
+            module.run(config, results, args.workers, force=args.force)
+        print(f"   {part}: {time.perf_counter() - t0:.0f} s")
+    print(f"run_all done in {(time.perf_counter() - start) / 60:.1f} min "
+          f"(estimated {estimate / 60:.0f} min)")
     return 0
 
 
+def _extra(part: str, config: dict) -> dict:
+    """What each part's manifest hash covers besides its own config section."""
+    return {} if part == "landscape" else {"landscape": config["landscape"]}
+
+
+def build_figures(results: Path, figures: Path) -> None:
+    """Run every analysis script (each reads results/ only) against these folders."""
+    env = {**os.environ, "ERGOHANDOVER_RESULTS": str(results),
+           "ERGOHANDOVER_FIGURES": str(figures)}
+    for script in FIGURE_SCRIPTS:
+        subprocess.run([sys.executable, str(HERE / "analysis" / f"{script}.py")], env=env,
+                       check=True)
+
+
 if __name__ == "__main__":
+    sys.path.insert(0, str(HERE))
     sys.exit(main())

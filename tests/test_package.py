@@ -1,4 +1,4 @@
-"""Package-level promises: the scoring engine imports numpy only; the example run works."""
+"""Package-level promises: the scoring engine imports numpy only; the whole study runs."""
 
 from __future__ import annotations
 
@@ -6,6 +6,9 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+
+import pandas as pd
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -19,12 +22,27 @@ def test_the_ergonomics_engine_imports_no_simulator_and_no_pandas():
     assert out.strip() == "[]"
 
 
-def test_run_all_writes_scores_with_a_manifest(tmp_path):
-    subprocess.run([sys.executable, str(ROOT / "experiments" / "run_all.py"), "--results",
-                    str(tmp_path)], check=True, capture_output=True, timeout=120)
-    folder = tmp_path / "example_scores"
-    manifest = json.loads((folder / "manifest.json").read_text())
-    assert manifest["result"] == "scores.csv"
-    assert manifest["config"]["settings"]["band_edge"] == "lower"
-    assert manifest["versions"]["numpy"] and manifest["wall_time_s"] >= 0
-    assert (folder / "scores.csv").read_text().count("\n") == 4
+@pytest.mark.smoke
+def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path):
+    results, figures = tmp_path / "results", tmp_path / "figs"
+    command = [sys.executable, str(ROOT / "experiments" / "run_all.py"), "--quick",
+               "--results", str(results), "--figures", str(figures)]
+    first = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    assert first.returncode == 0, first.stderr[-2000:]
+    for part in ("landscape", "learning", "baselines", "ablations", "participants"):
+        manifest = json.loads((results / part / "manifest.json").read_text())
+        assert manifest["part_hash"] and manifest["versions"]["numpy"]
+    assert {p.name for p in figures.glob("*.png")} >= {
+        "score_distribution.png", "learning_min_score.png", "learning_best_so_far.png",
+        "baselines_boxplot.png", "participants.png"}
+    tables = (results / "tables.md").read_text()
+    for heading in ("exhaustive landscape", "Learning", "Optimised vs shortest",
+                    "Simulated participants", "Ablations"):
+        assert heading in tables
+    runs = pd.read_csv(results / "learning" / "runs.csv")
+    assert set(runs["agent"]) == {"qlearning", "random", "hillclimb", "dqn"}
+    assert (runs["best_score"] >= runs["global_min"]).all()
+    # A second run reuses every finished part.
+    second = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    assert second.returncode == 0
+    assert second.stdout.count("reusing finished results") == 5

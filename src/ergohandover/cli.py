@@ -8,14 +8,14 @@ import sys
 from . import __version__
 from .atomic import OutputError
 from .body.anthropometry import BodySpecError
-from .commands import evaluate, score, sweep
+from .commands import baseline, evaluate, score, sweep, train
 from .csv_input import InputError
 from .ergonomics import PostureError, SettingsError
 from .evaluate import EvaluationError
 from .landscape import LandscapeError
 from .task import TaskSpecError
 
-COMMANDS = (score, evaluate, sweep)
+COMMANDS = (score, evaluate, sweep, baseline, train)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
 USER_ERRORS = (InputError, PostureError, SettingsError, BodySpecError, TaskSpecError,
                EvaluationError, LandscapeError, OutputError, FileNotFoundError, IsADirectoryError,

@@ -1,0 +1,81 @@
+"""Study part `ablations`: what each choice changes.
+
+- objective: paper_postural / reba / reba_ab / rula — each landscape minimum and how fast
+  Q-learning reaches it;
+- temperature: the published code's fixed 0.7 vs the paper's adaptive schedule;
+- human IK: our whole-body solver vs PyBullet's IK, on a coarser grid of the same boundary
+  (PyBullet's IK runs ~380 locations/s, so the paper's 3 mm grid would take hours).
+
+Usage: python experiments/study_ablations.py [--config ...]
+
+Writes results/ablations/: objectives.csv, temperature.csv (one row per run), ik.csv (one row
+per solver and score), ik_landscapes/ (cached), manifest.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+import pandas as pd
+from study_learning import run_jobs, write_runs
+
+from ergohandover.agents.search import exhaustive
+from ergohandover.atomic import atomic_write_csv
+from ergohandover.body.anthropometry import BodySpec
+from ergohandover.evaluate import Evaluator
+from ergohandover.grid import Grid, parse_boundary
+from ergohandover.landscape import Landscape, sweep
+from ergohandover.landscape_stats import statistics
+from ergohandover.study import run_part
+from ergohandover.task import TaskSpec
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    part = {**config["ablations"], "landscape": config["landscape"]}
+    landscape_file = results / "landscape" / "landscape.npz"
+
+    def work(folder: Path) -> dict:
+        landscape = Landscape.load(landscape_file)
+        truths = {o: exhaustive(landscape, o) for o in part["objectives"]}
+        base = {"cap_s": part["cap_s"], "landscape": str(landscape_file), "agent": "qlearning"}
+        jobs = [{**base, "objective": o, "temperature": t, "seed": seed,
+                 "stop_score": truths[o].score}
+                for o in part["objectives"] for t in part["temperatures"]
+                for seed in range(part["seeds"])]
+        runs = write_runs(run_jobs(jobs, workers, "ablations"), folder)
+        atomic_write_csv(runs[runs["temperature"] == "fixed"], folder / "objectives.csv")
+        atomic_write_csv(runs[runs["objective"] == "paper_postural"], folder / "temperature.csv")
+        body, task = BodySpec(), TaskSpec()
+        grid = Grid(parse_boundary(part["ik_boundary"], body, task), part["ik_step"])
+        rows = []
+        for solver in ("numpy", "pybullet"):
+            ik = sweep(grid, Evaluator(body, task, solver),
+                       folder / "ik_landscapes" / f"{solver}.npz", workers=workers)[0]
+            stats = statistics(ik)
+            stats.insert(0, "solver", solver)
+            stats["unbalanced_fraction"] = ((ik.arrays["flags"] & 4) > 0).mean()
+            stats["grid"] = grid.describe()
+            rows.append(stats)
+        atomic_write_csv(pd.concat(rows, ignore_index=True), folder / "ik.csv")
+        return {"runs": len(runs)}
+
+    run_part("ablations", results / "ablations", part, work,
+             seeds={"runs": part["seeds"]}, force=force)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
+    parser.add_argument("--results", type=Path, default=ROOT / "results")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
+
+
+if __name__ == "__main__":
+    main()

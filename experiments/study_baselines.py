@@ -1,0 +1,57 @@
+"""Study part `baselines`: the paper's comparison of the optimised location with the naive
+shortest-distance location, from its five start points, with the robot's feasibility and
+pictures of each.
+
+Usage: python experiments/study_baselines.py [--config ...]
+
+Writes results/baselines/: baselines.csv (one row per start and method), baselines.md,
+renders/ (a PNG per start and method, a contact sheet, a GIF of a carry), manifest.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from ergohandover.atomic import atomic_write, atomic_write_csv
+from ergohandover.baselines import PAPER_STARTS, compare
+from ergohandover.commands.baseline import markdown_table, render
+from ergohandover.evaluate import Evaluator
+from ergohandover.landscape import Landscape
+from ergohandover.robot import RobotSpec
+from ergohandover.study import run_part
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    part = {**config["baselines"], "landscape": config["landscape"]}
+
+    def work(folder: Path) -> dict:
+        landscape = Landscape.load(results / "landscape" / "landscape.npz")
+        evaluator, robot = Evaluator(), RobotSpec()
+        result = compare(PAPER_STARTS, landscape, evaluator, robot)
+        atomic_write_csv(result.table, folder / "baselines.csv")
+        markdown = markdown_table(result.table)
+        atomic_write(folder / "baselines.md", lambda h: h.write(markdown))
+        print(markdown, end="")
+        if part["render"]:
+            render(result, evaluator, robot, folder / "renders")
+        return {"starts": len(PAPER_STARTS)}
+
+    run_part("baselines", results / "baselines", part, work, force=force)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
+    parser.add_argument("--results", type=Path, default=ROOT / "results")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
+
+
+if __name__ == "__main__":
+    main()

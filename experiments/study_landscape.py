@@ -1,0 +1,63 @@
+"""Study part `landscape`: the exhaustive sweep of the default worker (the paper's 3-hour
+evaluation of every grid point), its statistics and score distribution.
+
+Usage: python experiments/study_landscape.py [--config experiments/configs/default.json]
+
+Writes results/landscape/: landscape.npz (not committed: 105 MB, rebuilt in ~5 min),
+stats.csv, distribution.csv, manifest.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from ergohandover.atomic import atomic_write_csv
+from ergohandover.body.anthropometry import BodySpec
+from ergohandover.evaluate import Evaluator
+from ergohandover.grid import Grid, parse_boundary
+from ergohandover.landscape import Landscape, sweep
+from ergohandover.landscape_stats import distributions, statistics
+from ergohandover.study import run_part
+from ergohandover.task import TaskSpec
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def landscape_for(body: BodySpec, config: dict, output: Path, workers: int) -> Landscape:
+    """The (cached) landscape of ``body`` on the configured boundary and step."""
+    task = TaskSpec()
+    grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
+    print(f"  {grid.describe()} for {body}")
+    landscape, reused = sweep(grid, Evaluator(body, task), output, workers=workers)
+    if reused:
+        print(f"  reused {output}")
+    return landscape
+
+
+def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    part = config["landscape"]
+
+    def work(folder: Path) -> dict:
+        landscape = landscape_for(BodySpec(), part, folder / "landscape.npz", workers)
+        atomic_write_csv(statistics(landscape), folder / "stats.csv")
+        atomic_write_csv(distributions(landscape), folder / "distribution.csv")
+        return {"grid": landscape.grid.describe(), "landscape_key": landscape.key,
+                "sweep_seconds": landscape.meta.get("seconds")}
+
+    run_part("landscape", results / "landscape", part, work, force=force)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
+    parser.add_argument("--results", type=Path, default=ROOT / "results")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
+
+
+if __name__ == "__main__":
+    main()

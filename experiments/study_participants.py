@@ -1,0 +1,60 @@
+"""Study part `participants`: the paper's five-person VR experiment, in simulation.
+
+Each simulated worker (5th-percentile woman to 95th-percentile man) is scored at the location
+optimised for the default worker (what the paper deploys to everyone), at the location optimised
+for itself, and at the shortest-distance locations from the VR study's two start points.
+
+Usage: python experiments/study_participants.py [--config ...]
+
+Writes results/participants/: participants.csv, manifest.json. The default worker's landscape
+comes from the `landscape` part (results/landscape/landscape.npz); the others are swept at the
+configured (coarser) step, cached in results/participants/landscapes/.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from study_landscape import landscape_for
+
+from ergohandover.atomic import atomic_write_csv
+from ergohandover.body.anthropometry import BodySpec
+from ergohandover.participants import DEFAULT_WORKER, participant_study
+from ergohandover.study import run_part
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    part = {**config["participants"], "landscape": config["landscape"]}
+
+    def work(folder: Path) -> dict:
+        landscapes = {DEFAULT_WORKER: landscape_for(
+            BodySpec(), config["landscape"], results / "landscape" / "landscape.npz", workers)}
+        own = {"boundary": config["landscape"]["boundary"], "step": part["step"]}
+        for name in part["workers"]:
+            if name != DEFAULT_WORKER:
+                landscapes[name] = landscape_for(
+                    BodySpec.from_percentile(name), own,
+                    folder / "landscapes" / f"{name}.npz", workers)
+        table = participant_study(landscapes)
+        atomic_write_csv(table, folder / "participants.csv")
+        return {"workers": list(landscapes)}
+
+    run_part("participants", results / "participants", part, work, force=force)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
+    parser.add_argument("--results", type=Path, default=ROOT / "results")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
+
+
+if __name__ == "__main__":
+    main()

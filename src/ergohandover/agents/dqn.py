@@ -1,0 +1,135 @@
+"""DQN (stable-baselines3) on the same env, with the position observation and the same caps.
+
+The paper names Deep Q-learning as future work. This is SB3's DQN with a small MLP; torch and
+SB3 are imported inside :func:`run_dqn` only, so the package and the env never load them.
+SB3 seeds Python's, numpy's and torch's global generators from ``seed`` (its own design); this
+is the only place in the package where a global RNG is touched.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import gymnasium as gym
+
+from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
+from .qlearning import seeds_of
+from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+
+UNBOUNDED_STEPS = 10**9
+"""``total_timesteps`` given to SB3 under a time cap only (the callback stops it first)."""
+
+
+@dataclass(frozen=True)
+class DQNConfig:
+    """Hyperparameters (SB3 defaults unless a reason is given).
+
+    Args:
+        net_arch: hidden layers: [64, 64] for a 4-number input (position and score) and 6
+            actions; larger nets only slow the ~1,000 steps/s a CPU gives.
+        learning_rate: Adam step (SB3 default 1e-4 is tuned for Atari; 1e-3 suits a small MLP
+            on a low-dimensional input).
+        buffer_size: replay transitions (1e5: ~minutes of experience, ~2 MB).
+        learning_starts: random steps before the first update (enough to fill a batch with
+            varied cells).
+        batch_size: transitions per update.
+        gamma: discount (the paper's 0.9, as for the tabular learner).
+        train_freq: env steps per gradient update (SB3 default 4).
+        target_update_interval: env steps between target-network copies (1,000: the rewards
+            are short-horizon at γ 0.9).
+        exploration_steps: steps over which ε falls linearly from 1 to ``exploration_final_eps``
+            (absolute, so a time-capped run explores as a step-capped one).
+        exploration_final_eps: the final ε.
+        episode_steps: truncation of an episode (as the tabular learner).
+        threads: torch threads (1: the run uses one core like the tabular learner).
+    """
+
+    net_arch: tuple[int, ...] = (64, 64)
+    learning_rate: float = 1e-3
+    buffer_size: int = 100_000
+    learning_starts: int = 1_000
+    batch_size: int = 64
+    gamma: float = 0.9
+    train_freq: int = 4
+    target_update_interval: int = 1_000
+    exploration_steps: int = 20_000
+    exploration_final_eps: float = 0.05
+    episode_steps: int = EPISODE_STEPS
+    threads: int = 1
+
+
+class _Watch(gym.Wrapper):
+    """Offers every cell the learner reaches (resets included) to the best-so-far record."""
+
+    def __init__(self, env, best: BestSoFar):
+        super().__init__(env)
+        self.best, self.steps = best, 0
+
+    def reset(self, **kwargs):
+        obs, info = self.env.reset(**kwargs)
+        if info["score"] <= self.best.best:
+            self.best.offer(self.steps, info["score"], info["cell"])
+        return obs, info
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        self.steps += 1
+        if info["score"] <= self.best.best:
+            self.best.offer(self.steps, info["score"], info["cell"])
+        return obs, reward, terminated, truncated, info
+
+
+def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
+            progress: Progress | None = None) -> RunResult:
+    """Train SB3's DQN on ``env`` until the budget is spent; keep the lowest score seen.
+
+    Args:
+        env: a :class:`HandoverEnv` with ``observation="position"`` (unwrapped or wrapped).
+        budget: time and/or step cap (steps = env steps).
+        seed: SB3's seed and the env's starts.
+        config: hyperparameters.
+        progress: called every :data:`BLOCK` steps.
+
+    Returns:
+        The result; ``model`` holds the trained SB3 model.
+    """
+    import torch
+    from stable_baselines3 import DQN
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    cfg = config or DQNConfig()
+    base: HandoverEnv = env.unwrapped
+    if base.observation != "position":
+        raise ValueError("DQN needs the env's observation = 'position' (got "
+                         f"{base.observation!r})")
+    torch.set_num_threads(cfg.threads)
+    best = BestSoFar(base.location)
+    watched = _Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
+    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+
+    class Caps(BaseCallback):
+        def _on_step(self) -> bool:
+            steps = self.num_timesteps
+            if steps % BLOCK == 0:
+                if progress:
+                    progress(steps, best.elapsed())
+                if best.elapsed() >= budget.time_limit:
+                    return False
+            return best.best > stop_score and steps < budget.step_limit
+
+    total = budget.steps if budget.steps is not None else UNBOUNDED_STEPS
+    env_seed, _ = seeds_of(seed)
+    model = DQN("MlpPolicy", watched, learning_rate=cfg.learning_rate,
+                buffer_size=cfg.buffer_size, learning_starts=cfg.learning_starts,
+                batch_size=cfg.batch_size, gamma=cfg.gamma, train_freq=cfg.train_freq,
+                target_update_interval=cfg.target_update_interval,
+                exploration_fraction=min(1.0, cfg.exploration_steps / total),
+                exploration_final_eps=cfg.exploration_final_eps,
+                policy_kwargs={"net_arch": list(cfg.net_arch)}, seed=env_seed, device="cpu",
+                verbose=0)
+    model.learn(total_timesteps=total, callback=Caps(), progress_bar=False)
+    if progress:
+        progress(model.num_timesteps, best.elapsed())
+    return finish("dqn", best, model.num_timesteps, budget, {},
+                  model=model)

@@ -1,0 +1,27 @@
+"""Gymnasium environments: :class:`HandoverEnv` (``ergohandover/Handover-v0``)."""
+
+from __future__ import annotations
+
+import gymnasium
+
+from .handover_env import ACTIONS, EPISODE_STEPS, HandoverEnv
+from .scores import OBJECTIVES, LandscapeScores, OnlineScores, ScoreSource
+
+ENV_ID = "ergohandover/Handover-v0"
+
+__all__ = ["ACTIONS", "ENV_ID", "EPISODE_STEPS", "OBJECTIVES", "HandoverEnv", "LandscapeScores",
+           "OnlineScores", "ScoreSource", "register"]
+
+
+def register() -> str:
+    """Register :data:`ENV_ID` with Gymnasium (truncated at :data:`EPISODE_STEPS`); idempotent.
+
+    ``gymnasium.make(ENV_ID, scores=...)`` (or ``landscape=FILE``) then builds the env.
+
+    Returns:
+        The environment id.
+    """
+    if ENV_ID not in gymnasium.registry:
+        gymnasium.register(id=ENV_ID, entry_point="ergohandover.envs.handover_env:HandoverEnv",
+                           max_episode_steps=EPISODE_STEPS)
+    return ENV_ID

@@ -1,0 +1,59 @@
+"""Parts of a study run: each writes into its own results folder and finishes by writing a
+``manifest.json`` that records the hash of its configuration; a part whose manifest matches is
+done and is reused (so an interrupted ``run_all`` resumes where it stopped)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from . import __version__
+from .manifest import write_manifest
+
+
+def config_hash(config: dict[str, Any]) -> str:
+    """A short hash of a part's configuration and the package version."""
+    text = json.dumps({"config": config, "version": __version__}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def is_done(folder: Path, config: dict[str, Any]) -> bool:
+    """True when ``folder`` holds a finished part made with this configuration."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return manifest.get("part_hash") == config_hash(config)
+
+
+def run_part(name: str, folder: Path, config: dict[str, Any],
+             work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
+             force: bool = False) -> bool:
+    """Run ``work(folder)`` unless the part is already done; then write its manifest.
+
+    Args:
+        name: the part's name (for messages).
+        folder: where the part writes its results.
+        config: the part's resolved configuration (hashed into the manifest).
+        work: does the part; may return extra figures for the manifest.
+        seeds: every seed used.
+        force: run even if done.
+
+    Returns:
+        True if the part ran, False if it was reused.
+    """
+    if not force and is_done(folder, config):
+        print(f"[{name}] reusing finished results in {folder}")
+        return False
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "manifest.json").unlink(missing_ok=True)  # not done until it is rewritten
+    start = time.perf_counter()
+    extra = work(folder) or {}
+    write_manifest(folder, config={"part": name, **config}, seeds=seeds or {},
+                   wall_time_s=time.perf_counter() - start,
+                   extra={"part_hash": config_hash(config), **extra})
+    return True

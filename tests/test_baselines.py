@@ -1,0 +1,154 @@
+"""The shortest-distance and optimised locations, and ``ergohandover baseline`` end to end."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from PIL import Image
+
+from ergohandover import cli
+from ergohandover.baselines import PAPER_STARTS, optimised, paper_result, shortest_distance
+from ergohandover.commands import baseline
+from ergohandover.evaluate import Evaluator
+from ergohandover.grid import Grid
+from ergohandover.landscape import sweep
+from ergohandover.landscape_stats import minimisers
+from ergohandover.task import Boundary
+
+coordinate = st.floats(-3.0, 3.0, allow_nan=False, allow_infinity=False)
+TINY = Boundary((-0.05, 0.05), (1.0, 1.2), (0.3, 0.45))
+
+
+@st.composite
+def boundaries(draw):
+    lo = [draw(st.floats(-1.0, 1.0)) for _ in range(3)]
+    size = [draw(st.floats(0.01, 1.0)) for _ in range(3)]
+    return Boundary(*((a, a + s) for a, s in zip(lo, size, strict=True)))
+
+
+def boundary_samples(boundary: Boundary, rng: np.random.Generator, n: int = 3000) -> np.ndarray:
+    """Points of the boundary box: inside, on each face, and its corners."""
+    lo, hi = boundary.lower, boundary.upper
+    inside = rng.uniform(lo, hi, size=(n, 3))
+    faces = []
+    for axis in range(3):
+        for value in (lo[axis], hi[axis]):
+            face = rng.uniform(lo, hi, size=(n // 6, 3))
+            face[:, axis] = value
+            faces.append(face)
+    corners = np.array([[(lo, hi)[k >> i & 1][i] for i in range(3)] for k in range(8)])
+    return np.vstack([inside, *faces, corners])
+
+
+@settings(max_examples=60, deadline=None)
+@given(start=st.tuples(coordinate, coordinate, coordinate), boundary=boundaries(),
+       seed=st.integers(0, 2**32 - 1))
+def test_shortest_distance_is_on_the_boundary_and_no_boundary_point_is_nearer(start, boundary,
+                                                                              seed):
+    start = np.array(start)
+    point = shortest_distance(start, boundary)
+    assert np.all(point >= boundary.lower) and np.all(point <= boundary.upper)
+    outside = np.any((start < boundary.lower) | (start > boundary.upper))
+    if outside:  # on the surface: at least one coordinate on a face
+        assert np.any(np.isclose(point, boundary.lower) | np.isclose(point, boundary.upper))
+    samples = boundary_samples(boundary, np.random.default_rng(seed))
+    nearest = np.linalg.norm(samples - start, axis=1).min()
+    assert np.linalg.norm(point - start) <= nearest + 1e-12
+
+
+@settings(max_examples=40, deadline=None)
+@given(boundary=boundaries(), fraction=st.tuples(*[st.floats(0, 1)] * 3))
+def test_a_start_inside_the_boundary_is_returned_unchanged(boundary, fraction):
+    start = boundary.lower + np.array(fraction) * (boundary.upper - boundary.lower)
+    assert np.array_equal(shortest_distance(start, boundary), start)
+
+
+def test_the_paper_starts_clip_to_the_paper_code_boundary():
+    expected = [(0.028, 1.122, 0.6), (0.2, 1.122, 0.6), (-0.2, 1.122, 0.6), (0.028, 0.72, 0.6),
+                (0.028, 1.44, 0.6)]
+    assert np.allclose(shortest_distance(PAPER_STARTS, Boundary.paper_code()), expected)
+    assert paper_result(PAPER_STARTS[3], "shortest_distance") == 7
+    assert paper_result(PAPER_STARTS[3], "optimised") == 4
+    assert np.isnan(paper_result(np.array([0.0, 1.0, 1.0]), "optimised"))
+
+
+@pytest.fixture(scope="module")
+def tiny_landscape(tmp_path_factory):
+    path = tmp_path_factory.mktemp("landscape") / "l.npz"
+    landscape, _ = sweep(Grid(TINY, 0.05), Evaluator(), path, progress=False)
+    return landscape, path
+
+
+def test_optimised_is_a_most_symmetric_minimiser_of_the_score(tiny_landscape):
+    landscape, _ = tiny_landscape
+    for score in ("paper_postural", "reba", "rula"):
+        best = optimised(landscape, score)
+        winners = landscape.grid.coordinates(minimisers(landscape, score))
+        assert any(np.allclose(best, w) for w in winners)
+        assert abs(best[0]) == pytest.approx(np.abs(winners[:, 0]).min())
+    with pytest.raises(ValueError, match="not in the landscape"):
+        optimised(landscape, "nonsense")
+
+
+@pytest.fixture
+def main(monkeypatch):
+    """``ergohandover.cli.main`` with the baseline command registered (until cli.py has it)."""
+    if baseline not in cli.COMMANDS:
+        monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, baseline))
+    return cli.main
+
+
+@pytest.mark.parametrize("text", ["1,2", "1,2,3,4", "a,b,c", "nan,1,1", "1,inf,1", "", "1;2;3"])
+def test_bad_start_strings_exit_2_with_one_line(main, capsys, tmp_path, text):
+    out = tmp_path / "b.csv"
+    assert main(["baseline", f"--start={text}", "--output", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == (f"ergohandover baseline: error: start = {text!r} is not allowed "
+                           "(expected three finite numbers X,Y,Z in metres, worker frame)")
+    assert not out.exists()
+
+
+def test_a_landscape_for_another_worker_is_refused(main, capsys, tiny_landscape, tmp_path):
+    _, path = tiny_landscape
+    out = tmp_path / "b.csv"
+    code = main(["baseline", "--landscape", str(path), "--percentile", "p5-female",
+                 "--output", str(out)])
+    assert code == 2
+    err = capsys.readouterr().err.strip()
+    assert "was made with other settings" in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_baseline_writes_csv_markdown_manifest_and_pictures(main, capsys, tiny_landscape,
+                                                            tmp_path):
+    landscape, path = tiny_landscape
+    out, pictures = tmp_path / "b.csv", tmp_path / "img"
+    start = "0.0,1.1,0.6"  # just beyond the tiny boundary: a short carry
+    assert main(["baseline", "--landscape", str(path), f"--start={start}", "--output", str(out),
+                 "--render", str(pictures)]) == 0
+    printed = capsys.readouterr().out
+    table = pd.read_csv(out, keep_default_na=False)
+    assert table["method"].tolist() == ["optimised", "shortest_distance"]
+    opt, short = table.iloc[0], table.iloc[1]
+    assert np.allclose([opt.x, opt.y, opt.z], optimised(landscape))
+    assert np.allclose([short.x, short.y, short.z], [0.0, 1.1, 0.45])
+    assert short.distance_m == pytest.approx(0.15)
+    for row in (opt, short):  # the twin's scores at exactly that location
+        assert row.feasible == 1 and row.paper_postural != "" and row.reba != ""
+        assert row.robot_feasible in (0, 1)
+        assert row.robot_feasible == 1 or row.robot_reason != ""
+    markdown = out.with_suffix(".md").read_text()
+    assert markdown == printed and markdown.count("\n") == 3
+    assert "| (0.000, 1.100, 0.600) |" in markdown
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert manifest["config"]["landscape_key"] == landscape.key
+    names = sorted(p.name for p in pictures.iterdir())
+    assert names == ["baseline_sheet.png", "carry.gif", "start1_optimised.png",
+                     "start1_shortest_distance.png"]
+    gif = Image.open(pictures / "carry.gif")
+    assert gif.n_frames > 3 and (pictures / "carry.gif").stat().st_size < 3_000_000
