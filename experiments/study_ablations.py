@@ -14,9 +14,6 @@ per solver and score), ik_landscapes/ (cached), manifest.json.
 
 from __future__ import annotations
 
-import argparse
-import json
-import os
 from pathlib import Path
 
 import pandas as pd
@@ -29,7 +26,7 @@ from ergohandover.evaluate import Evaluator
 from ergohandover.grid import Grid, parse_boundary
 from ergohandover.landscape import Landscape, sweep
 from ergohandover.landscape_stats import statistics
-from ergohandover.study import run_part
+from ergohandover.study import run_part, study_main
 from ergohandover.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -68,14 +65,5 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
              seeds={"runs": part["seeds"]}, force=force)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
-    parser.add_argument("--results", type=Path, default=ROOT / "results")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
-    args = parser.parse_args()
-    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
-
-
 if __name__ == "__main__":
-    main()
+    study_main(run, __doc__, ROOT)

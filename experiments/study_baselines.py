@@ -10,9 +10,6 @@ renders/ (a PNG per start and method, a contact sheet, a GIF of a carry), manife
 
 from __future__ import annotations
 
-import argparse
-import json
-import os
 from pathlib import Path
 
 from ergohandover.atomic import atomic_write, atomic_write_csv
@@ -21,7 +18,7 @@ from ergohandover.commands.baseline import markdown_table, render
 from ergohandover.evaluate import Evaluator
 from ergohandover.landscape import Landscape
 from ergohandover.robot import RobotSpec
-from ergohandover.study import run_part
+from ergohandover.study import run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -44,14 +41,5 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     run_part("baselines", results / "baselines", part, work, force=force)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
-    parser.add_argument("--results", type=Path, default=ROOT / "results")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
-    args = parser.parse_args()
-    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
-
-
 if __name__ == "__main__":
-    main()
+    study_main(run, __doc__, ROOT)

@@ -13,10 +13,7 @@ truth.csv (the landscape's minimum), manifest.json.
 
 from __future__ import annotations
 
-import argparse
-import json
 import multiprocessing
-import os
 from pathlib import Path
 
 import pandas as pd
@@ -30,7 +27,7 @@ from ergohandover.atomic import atomic_write_csv
 from ergohandover.envs.handover_env import HandoverEnv
 from ergohandover.envs.scores import LandscapeScores
 from ergohandover.landscape import Landscape
-from ergohandover.study import run_part
+from ergohandover.study import run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 _SCORES: dict[tuple[str, str], LandscapeScores] = {}
@@ -119,14 +116,5 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
              seeds={"runs": part["seeds"]}, force=force)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
-    parser.add_argument("--results", type=Path, default=ROOT / "results")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
-    args = parser.parse_args()
-    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
-
-
 if __name__ == "__main__":
-    main()
+    study_main(run, __doc__, ROOT)

@@ -13,9 +13,6 @@ configured (coarser) step, cached in results/participants/landscapes/.
 
 from __future__ import annotations
 
-import argparse
-import json
-import os
 from pathlib import Path
 
 from study_landscape import landscape_for
@@ -23,7 +20,7 @@ from study_landscape import landscape_for
 from ergohandover.atomic import atomic_write_csv
 from ergohandover.body.anthropometry import BodySpec
 from ergohandover.participants import DEFAULT_WORKER, participant_study
-from ergohandover.study import run_part
+from ergohandover.study import run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,14 +44,5 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     run_part("participants", results / "participants", part, work, force=force)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json")
-    parser.add_argument("--results", type=Path, default=ROOT / "results")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
-    args = parser.parse_args()
-    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
-
-
 if __name__ == "__main__":
-    main()
+    study_main(run, __doc__, ROOT)

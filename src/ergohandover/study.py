@@ -57,3 +57,20 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
                    wall_time_s=time.perf_counter() - start,
                    extra={"part_hash": config_hash(config), **extra})
     return True
+
+
+def study_main(run: Callable[..., None], doc: str, root: Path) -> None:
+    """The command line shared by every ``experiments/study_<part>.py``: run that part alone
+    (always, even if finished) with ``--config``, ``--results`` and ``--workers``."""
+    import argparse
+    import os
+
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=root / "experiments/configs/default.json",
+                        help="study configuration (default: experiments/configs/default.json)")
+    parser.add_argument("--results", type=Path, default=root / "results",
+                        help="results folder (default: results/)")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                        help="processes (default: all cores)")
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
