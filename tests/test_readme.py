@@ -43,3 +43,21 @@ def test_readme_example_scores_are_the_real_output():
         assert row[0] == text["name"][i]
         for name, cell in zip(header[1:], row[1:], strict=True):
             assert int(cell) == scores[name][i], (text["name"][i], name)
+
+
+def test_readme_baseline_table_is_the_committed_result():
+    table = pd.read_csv(ROOT / "results" / "baselines" / "baselines.csv")
+    block = README.split("The table from\nthe committed run")[1].split("\n\n")[1]
+    rows = [line.strip("|").split("|") for line in block.splitlines()[2:]]
+    assert len(rows) == 5
+    for row, (_, group) in zip(rows, table.groupby(["start_x", "start_y", "start_z"],
+                                                   sort=False), strict=True):
+        cells = [c.strip() for c in row]
+        opt = group[group["method"] == "optimised"].iloc[0]
+        short = group[group["method"] == "shortest_distance"].iloc[0]
+        assert cells[1].split()[0] == str(int(opt["paper_postural"]))
+        assert cells[3].split()[0] == str(int(short["paper_postural"]))
+        assert cells[4] == f"{int(opt['reba'])} / {int(short['reba'])}"
+        assert cells[5] == f"{int(opt['rula'])} / {int(short['rula'])}"
+        robot = "yes" if opt["robot_feasible"] else "no"
+        assert cells[6].startswith(robot)

@@ -1,0 +1,46 @@
+"""Compare two results folders (e.g. the committed results/ and a rerun): every score,
+location, count and step must be equal; wall-time columns may differ, and their spread is
+printed.
+
+Usage: python experiments/analysis/compare_runs.py RESULTS_A RESULTS_B
+Exit code 1 if anything but a wall time differs.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "learning/runs.csv",
+          "learning/truth.csv", "baselines/baselines.csv", "ablations/runs.csv",
+          "ablations/ik.csv", "participants/participants.csv")
+TIME_COLUMNS = {"first_reached_s", "elapsed_s"}
+
+
+def compare(a: Path, b: Path) -> bool:
+    same = True
+    for name in TABLES:
+        x, y = pd.read_csv(a / name), pd.read_csv(b / name)
+        exact = [c for c in x.columns if c not in TIME_COLUMNS]
+        if not x[exact].equals(y[exact]):
+            diff = [c for c in exact if not x[c].equals(y[c])]
+            print(f"{name}: DIFFERS in {diff}")
+            same = False
+        else:
+            print(f"{name}: identical ({len(x)} rows" + (
+                f"; wall-time columns {sorted(TIME_COLUMNS & set(x.columns))} differ)"
+                if TIME_COLUMNS & set(x.columns) else ")"))
+        for column in sorted(TIME_COLUMNS & set(x.columns)):
+            big = (x[column] > 0.05) & (y[column] > 0.05)  # sub-50 ms times are noise
+            if big.any():
+                ratio = (y.loc[big, column] / x.loc[big, column]).to_numpy()
+                print(f"   {column}: rerun/original over {big.sum()} runs above 50 ms: median "
+                      f"{np.median(ratio):.2f}, range {ratio.min():.2f}-{ratio.max():.2f}")
+    return same
+
+
+if __name__ == "__main__":
+    sys.exit(0 if compare(Path(sys.argv[1]), Path(sys.argv[2])) else 1)
