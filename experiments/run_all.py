@@ -68,13 +68,15 @@ def main(argv: list[str] | None = None) -> int:
     results = args.results or ROOT / "results" / ("quick" if args.quick else "")
     figures = args.figures or ROOT / "paper_figs" / ("quick" if args.quick else "")
     parts = args.only or list(PARTS)
-    from ergohandover.study import is_done
+    from ergohandover.study import is_done, part_config
 
     todo = [p for p in parts if p == "figures" or args.force
-            or not is_done(results / p, {**config.get(p, {}), **_extra(p, config)})]
+            or not is_done(results / p, part_config(config, p))]
     estimate = sum(ESTIMATE_S[mode][p] for p in todo)
+    plan = (f"estimated {estimate / 60:.0f} min for {', '.join(todo)}" if todo
+            else "every part is finished already")
     print(f"run_all ({mode}, config {config_path.name}, {args.workers} workers): parts "
-          f"{', '.join(parts)}; estimated {estimate / 60:.0f} min for {', '.join(todo)}")
+          f"{', '.join(parts)}; {plan}")
     start = time.perf_counter()
     for part in parts:
         t0 = time.perf_counter()
@@ -88,11 +90,6 @@ def main(argv: list[str] | None = None) -> int:
     print(f"run_all done in {(time.perf_counter() - start) / 60:.1f} min "
           f"(estimated {estimate / 60:.0f} min)")
     return 0
-
-
-def _extra(part: str, config: dict) -> dict:
-    """What each part's manifest hash covers besides its own config section."""
-    return {} if part == "landscape" else {"landscape": config["landscape"]}
 
 
 def build_figures(results: Path, figures: Path) -> None:

@@ -26,14 +26,14 @@ from ergohandover.evaluate import Evaluator
 from ergohandover.grid import Grid, parse_boundary
 from ergohandover.landscape import Landscape, sweep
 from ergohandover.landscape_stats import statistics
-from ergohandover.study import run_part, study_main
+from ergohandover.study import part_config, run_part, study_main
 from ergohandover.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    part = {**config["ablations"], "landscape": config["landscape"]}
+    part = part_config(config, "ablations")
     landscape_file = results / "landscape" / "landscape.npz"
 
     def work(folder: Path) -> dict:

@@ -18,13 +18,13 @@ from ergohandover.commands.baseline import markdown_table, render
 from ergohandover.evaluate import Evaluator
 from ergohandover.landscape import Landscape
 from ergohandover.robot import RobotSpec
-from ergohandover.study import run_part, study_main
+from ergohandover.study import part_config, run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    part = {**config["baselines"], "landscape": config["landscape"]}
+    part = part_config(config, "baselines")
 
     def work(folder: Path) -> dict:
         landscape = Landscape.load(results / "landscape" / "landscape.npz")

@@ -17,7 +17,7 @@ from ergohandover.evaluate import Evaluator
 from ergohandover.grid import Grid, parse_boundary
 from ergohandover.landscape import Landscape, sweep
 from ergohandover.landscape_stats import distributions, statistics
-from ergohandover.study import run_part, study_main
+from ergohandover.study import part_config, run_part, study_main
 from ergohandover.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,7 +35,7 @@ def landscape_for(body: BodySpec, config: dict, output: Path, workers: int) -> L
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    part = config["landscape"]
+    part = part_config(config, "landscape")
 
     def work(folder: Path) -> dict:
         landscape = landscape_for(BodySpec(), part, folder / "landscape.npz", workers)

@@ -27,7 +27,7 @@ from ergohandover.atomic import atomic_write_csv
 from ergohandover.envs.handover_env import HandoverEnv
 from ergohandover.envs.scores import LandscapeScores
 from ergohandover.landscape import Landscape
-from ergohandover.study import run_part, study_main
+from ergohandover.study import part_config, run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 _SCORES: dict[tuple[str, str], LandscapeScores] = {}
@@ -92,7 +92,7 @@ def write_runs(done: list[dict], folder: Path) -> pd.DataFrame:
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    part = {**config["learning"], "landscape": config["landscape"]}
+    part = part_config(config, "learning")
     landscape_file = results / "landscape" / "landscape.npz"
 
     def work(folder: Path) -> dict:

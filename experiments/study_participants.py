@@ -20,13 +20,13 @@ from study_landscape import landscape_for
 from ergohandover.atomic import atomic_write_csv
 from ergohandover.body.anthropometry import BodySpec
 from ergohandover.participants import DEFAULT_WORKER, participant_study
-from ergohandover.study import run_part, study_main
+from ergohandover.study import part_config, run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    part = {**config["participants"], "landscape": config["landscape"]}
+    part = part_config(config, "participants")
 
     def work(folder: Path) -> dict:
         landscapes = {DEFAULT_WORKER: landscape_for(

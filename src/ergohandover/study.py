@@ -21,6 +21,13 @@ def config_hash(config: dict[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
+    """What a part's results depend on: its own section of the study configuration and, for
+    every part after it, the landscape's (they all read the landscape)."""
+    own = dict(config[part])
+    return own if part == "landscape" else {**own, "landscape": config["landscape"]}
+
+
 def is_done(folder: Path, config: dict[str, Any]) -> bool:
     """True when ``folder`` holds a finished part made with this configuration."""
     try:
