@@ -17,6 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
+import study_landscape
 from study_learning import run_jobs, write_runs
 
 from ergohandover.agents.search import exhaustive
@@ -33,6 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "ablations")
     landscape_file = results / "landscape" / "landscape.npz"
 

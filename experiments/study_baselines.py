@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import study_landscape
+
 from ergohandover.atomic import atomic_write, atomic_write_csv
 from ergohandover.baselines import PAPER_STARTS, compare
 from ergohandover.commands.baseline import markdown_table, render
@@ -24,6 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "baselines")
 
     def work(folder: Path) -> dict:

@@ -44,7 +44,8 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
         return {"grid": landscape.grid.describe(), "landscape_key": landscape.key,
                 "sweep_seconds": landscape.meta.get("seconds")}
 
-    run_part("landscape", results / "landscape", part, work, force=force)
+    run_part("landscape", results / "landscape", part, work, force=force,
+             required_files=("landscape.npz",))
 
 
 if __name__ == "__main__":

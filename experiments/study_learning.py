@@ -17,6 +17,7 @@ import multiprocessing
 from pathlib import Path
 
 import pandas as pd
+import study_landscape
 from tqdm import tqdm
 
 from ergohandover.agents.dqn import run_dqn
@@ -92,6 +93,7 @@ def write_runs(done: list[dict], folder: Path) -> pd.DataFrame:
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "learning")
     landscape_file = results / "landscape" / "landscape.npz"
 

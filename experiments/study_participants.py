@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import study_landscape
 from study_landscape import landscape_for
 
 from ergohandover.atomic import atomic_write_csv
@@ -26,6 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
+    study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "participants")
 
     def work(folder: Path) -> dict:

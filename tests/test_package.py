@@ -45,4 +45,12 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path):
     # A second run reuses every finished part.
     second = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert second.returncode == 0
-    assert second.stdout.count("reusing finished results") == 5
+    for part in ("landscape", "learning", "baselines", "ablations", "participants"):
+        assert f"[{part}] reusing finished results" in second.stdout
+    # Without the landscape file (not committed), the landscape part is not finished.
+    (results / "landscape" / "landscape.npz").unlink()
+    from ergohandover.study import is_done, part_config
+
+    config = json.loads((ROOT / "experiments" / "configs" / "quick.json").read_text())
+    assert not is_done(results / "landscape", part_config(config, "landscape"))
+    assert is_done(results / "learning", part_config(config, "learning"))

@@ -29,17 +29,20 @@ def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
 
 
 def is_done(folder: Path, config: dict[str, Any]) -> bool:
-    """True when ``folder`` holds a finished part made with this configuration."""
+    """True when ``folder`` holds a finished part made with this configuration, with every
+    file later parts need (``required_files`` of its manifest; e.g. the landscape, which is
+    not committed, so a fresh clone sweeps it again)."""
     try:
         manifest = json.loads((folder / "manifest.json").read_text())
     except (OSError, ValueError):
         return False
-    return manifest.get("part_hash") == config_hash(config)
+    present = all((folder / name).exists() for name in manifest.get("required_files", []))
+    return present and manifest.get("part_hash") == config_hash(config)
 
 
 def run_part(name: str, folder: Path, config: dict[str, Any],
              work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
-             force: bool = False) -> bool:
+             force: bool = False, required_files: tuple[str, ...] = ()) -> bool:
     """Run ``work(folder)`` unless the part is already done; then write its manifest.
 
     Args:
@@ -49,6 +52,8 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
         work: does the part; may return extra figures for the manifest.
         seeds: every seed used.
         force: run even if done.
+        required_files: files in ``folder`` that later parts read; the part is not done
+            without them.
 
     Returns:
         True if the part ran, False if it was reused.
@@ -62,7 +67,8 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
     extra = work(folder) or {}
     write_manifest(folder, config={"part": name, **config}, seeds=seeds or {},
                    wall_time_s=time.perf_counter() - start,
-                   extra={"part_hash": config_hash(config), **extra})
+                   extra={"part_hash": config_hash(config),
+                          "required_files": list(required_files), **extra})
     return True
 
 
