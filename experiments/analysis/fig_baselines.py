@@ -21,7 +21,8 @@ def main() -> None:
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8))
     for ax, score in zip(axes, ("paper_postural", "reba", "rula"), strict=True):
         sns.boxplot(data=table, x="method", y=score, ax=ax, color="#c6dbef")
-        sns.stripplot(data=table, x="method", y=score, ax=ax, color="#08519c", size=5)
+        sns.stripplot(data=table, x="method", y=score, ax=ax, color="#08519c", size=5,
+                      jitter=False)  # jitter would come from numpy's global generator
         ax.set_title(f"{score} (N = {n} start points)")
         ax.set_xlabel("")
     paper = table.dropna(subset=["paper_postural_paper"])

@@ -16,8 +16,10 @@ def boxplot(runs: pd.DataFrame, truth: pd.Series) -> None:
     order = list(dict.fromkeys(runs["run"]))
     fig, ax = plt.subplots(figsize=(max(6, 1.1 * len(order)), 4))
     sns.boxplot(data=runs, x="run", y="best_score", order=order, ax=ax, color="#9ecae1")
+    # No jitter: seaborn draws it from numpy's global generator, which would make the figure
+    # differ between rebuilds of the same results.
     sns.stripplot(data=runs, x="run", y="best_score", order=order, ax=ax, color="#08519c",
-                  size=4, jitter=0.15)
+                  size=4, jitter=False)
     ax.axhline(truth["global_min"], color="#d62728", ls="--",
                label=f"global minimum ({truth['global_min']:g}, exhaustive)")
     n = runs.groupby("run").size()

@@ -26,11 +26,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
+from .ranges import check_ranges, ranged
 from .sim import pybullet as _pybullet
 
 ARMS = {"left": 1.0, "right": -1.0}  # arm -> side of the world y axis it stands on
@@ -60,32 +61,23 @@ class RobotSpecError(ValueError):
     """A robot setting outside its valid range; the message is one line."""
 
 
-def _spec(default, help: str, lo: float, hi: float):
-    return field(default=default, metadata={"help": help, "lo": lo, "hi": hi})
-
-
 @dataclass(frozen=True)
 class RobotSpec:
     """Where the robot stands and how close its grippers must come (world frame, metres)."""
 
-    distance: float = _spec(1.05, "arm bases in front of the worker's feet (worker z) [m]",
+    distance: float = ranged(1.05, "arm bases in front of the worker's feet (worker z) [m]",
                             0.5, 2.0)
-    arm_spacing: float = _spec(1.0, "distance between the two arm bases [m]", 0.5, 2.0)
-    mount_height: float = _spec(0.6, "height of the arm bases (top of the stand) [m]",
+    arm_spacing: float = ranged(1.0, "distance between the two arm bases [m]", 0.5, 2.0)
+    mount_height: float = ranged(0.6, "height of the arm bases (top of the stand) [m]",
                                 0.2, 1.6)
-    position_tolerance: float = _spec(0.01, "largest gripper-to-handle distance [m]",
+    position_tolerance: float = ranged(0.01, "largest gripper-to-handle distance [m]",
                                       0.0005, 0.05)
-    angle_tolerance_deg: float = _spec(3.0, "largest gripper tilt from the level box [deg]",
+    angle_tolerance_deg: float = ranged(3.0, "largest gripper tilt from the level box [deg]",
                                        0.1, 30.0)
-    ik_calls: int = _spec(DEFAULT_IK_CALLS, "IK calls per arm and approach", 1, 500)
+    ik_calls: int = ranged(DEFAULT_IK_CALLS, "IK calls per arm and approach", 1, 500)
 
     def __post_init__(self):
-        for f in fields(self):
-            value, lo, hi = getattr(self, f.name), f.metadata["lo"], f.metadata["hi"]
-            if not isinstance(value, int | float) or not (math.isfinite(value)
-                                                          and lo <= value <= hi):
-                raise RobotSpecError(f"{f.name} = {value!r} is outside the valid range "
-                                     f"{lo:g}-{hi:g}")
+        check_ranges(self, RobotSpecError)
 
 
 def grasp_orientation(arm: str, yaw_deg: float, flip: bool = False) -> np.ndarray:

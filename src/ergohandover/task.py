@@ -8,19 +8,16 @@ depth, ``handle_span`` apart.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 
 import numpy as np
 
 from .body.anthropometry import BodySpec
+from .ranges import check_ranges, ranged
 
 
 class TaskSpecError(ValueError):
     """A task setting outside its valid range; the message is one line."""
-
-
-def _spec(default, help: str, lo: float, hi: float):
-    return field(default=default, metadata={"help": help, "lo": lo, "hi": hi})
 
 
 @dataclass(frozen=True)
@@ -34,23 +31,17 @@ class TaskSpec:
     static beyond a minute nor repeated, so activity is 0.
     """
 
-    box_width: float = _spec(0.36, "box width, side to side [m]", 0.10, 1.00)
-    box_height: float = _spec(0.25, "box height [m]", 0.05, 1.00)
-    box_depth: float = _spec(0.30, "box depth, front to back [m]", 0.05, 1.00)
-    box_mass_kg: float = _spec(6.0, "box mass [kg]", 0.0, 25.0)
-    handle_span: float = _spec(0.40, "distance between the two handle grips [m]", 0.15, 1.10)
-    coupling: int = _spec(0, "REBA coupling of the handles: 0 good ... 3 unacceptable", 0, 3)
-    activity: int = _spec(0, "REBA activity score 0-3", 0, 3)
-    clearance: float = _spec(0.02, "gap kept between the box and the torso [m]", 0.0, 0.20)
+    box_width: float = ranged(0.36, "box width, side to side [m]", 0.10, 1.00)
+    box_height: float = ranged(0.25, "box height [m]", 0.05, 1.00)
+    box_depth: float = ranged(0.30, "box depth, front to back [m]", 0.05, 1.00)
+    box_mass_kg: float = ranged(6.0, "box mass [kg]", 0.0, 25.0)
+    handle_span: float = ranged(0.40, "distance between the two handle grips [m]", 0.15, 1.10)
+    coupling: int = ranged(0, "REBA coupling of the handles: 0 good ... 3 unacceptable", 0, 3)
+    activity: int = ranged(0, "REBA activity score 0-3", 0, 3)
+    clearance: float = ranged(0.02, "gap kept between the box and the torso [m]", 0.0, 0.20)
 
     def __post_init__(self):
-        for f in fields(self):
-            value = getattr(self, f.name)
-            lo, hi = f.metadata["lo"], f.metadata["hi"]
-            if not isinstance(value, int | float) or not (math.isfinite(value)
-                                                          and lo <= value <= hi):
-                raise TaskSpecError(f"{f.name} = {value!r} is outside the valid range "
-                                    f"{lo:g}-{hi:g}")
+        check_ranges(self, TaskSpecError)
         if self.handle_span < self.box_width:
             raise TaskSpecError(f"handle_span = {self.handle_span!r} is outside the valid range: "
                                 f"at least box_width = {self.box_width!r}")

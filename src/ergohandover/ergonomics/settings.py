@@ -9,8 +9,9 @@ the choices, each overridable (``ergohandover score --help``).
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
+
+from ..ranges import check_ranges, ranged
 
 MAX_COUNT_FROM_DEG = 30.0
 MAX_NEUTRAL_TOLERANCE_DEG = 15.0
@@ -18,10 +19,6 @@ MAX_NEUTRAL_TOLERANCE_DEG = 15.0
 
 class SettingsError(ValueError):
     """A scoring setting outside its valid range; the message is one line."""
-
-
-def _setting(default, help: str, **kw):
-    return field(default=default, metadata={"help": help, **kw})
 
 
 @dataclass(frozen=True)
@@ -38,46 +35,33 @@ class ScoringSettings:
     given once (the original paper) rather than once for each.
     """
 
-    neutral_tolerance_deg: float = _setting(
-        5.0, "half-width of 'upright'/'neutral' for trunk, neck and wrist (0-15)", lo=0.0,
-        hi=MAX_NEUTRAL_TOLERANCE_DEG)
-    band_edge: str = _setting(
+    neutral_tolerance_deg: float = ranged(
+        5.0, "half-width of 'upright'/'neutral' for trunk, neck and wrist (0-15)", 0.0,
+        MAX_NEUTRAL_TOLERANCE_DEG, "deg")
+    band_edge: str = ranged(
         "lower", "band for an angle exactly on a band edge: the 'lower' (less severe) or "
         "'upper' (more severe) one", choices=("lower", "upper"))
-    twist_from_deg: float = _setting(
-        10.0, "trunk/neck twist counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    side_bend_from_deg: float = _setting(
-        10.0, "trunk/neck side bend counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    abduction_from_deg: float = _setting(
-        20.0, "upper-arm abduction counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    rotation_from_deg: float = _setting(
-        20.0, "upper-arm rotation counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    shoulder_raise_from_deg: float = _setting(
-        10.0, "shoulder raise counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    wrist_deviation_from_deg: float = _setting(
-        10.0, "wrist deviation counts beyond this (0-30)", lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    wrist_twist_from_deg: float = _setting(
+    twist_from_deg: float = ranged(
+        10.0, "trunk/neck twist counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    side_bend_from_deg: float = ranged(
+        10.0, "trunk/neck side bend counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    abduction_from_deg: float = ranged(
+        20.0, "upper-arm abduction counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    rotation_from_deg: float = ranged(
+        20.0, "upper-arm rotation counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    shoulder_raise_from_deg: float = ranged(
+        10.0, "shoulder raise counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    wrist_deviation_from_deg: float = ranged(
+        10.0, "wrist deviation counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+    wrist_twist_from_deg: float = ranged(
         30.0, "wrist twist counts (REBA) / is near end of range (RULA) beyond this (0-30)",
-        lo=0.0, hi=MAX_COUNT_FROM_DEG)
-    twist_side_bend_rule: str = _setting(
+        0.0, MAX_COUNT_FROM_DEG, "deg")
+    twist_side_bend_rule: str = ranged(
         "single", "REBA trunk/neck: 'single' +1 if twisted or side-bent (original), or "
         "'each' +1 for each", choices=("single", "each"))
 
     def __post_init__(self):
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if "choices" in f.metadata:
-                if value not in f.metadata["choices"]:
-                    allowed = " or ".join(repr(c) for c in f.metadata["choices"])
-                    raise SettingsError(f"{f.name} = {value!r} is not allowed (use {allowed})")
-                continue
-            lo, hi = f.metadata["lo"], f.metadata["hi"]
-            if not isinstance(value, int | float) or not (
-                math.isfinite(value) and lo <= value <= hi
-            ):
-                raise SettingsError(
-                    f"{f.name} = {value!r} is outside the valid range {lo:g}-{hi:g} deg"
-                )
+        check_ranges(self, SettingsError)
 
     @property
     def severe_on_edge(self) -> bool:
