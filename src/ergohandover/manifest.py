@@ -18,14 +18,21 @@ PACKAGES = ("ergohandover", "numpy", "pandas", "pybullet", "gymnasium", "stable-
             "torch", "seaborn", "tqdm")
 
 
+# Output folders: a study run rewrites them, which does not make the code differ from the commit.
+OUTPUTS = ("results", "paper_figs")
+
+
 def git_commit(cwd: str | os.PathLike | None = None) -> str | None:
-    """The checkout's commit (with ``-dirty`` if it has uncommitted changes), or None."""
+    """The checkout's commit, with ``-dirty`` if tracked files other than the outputs
+    (:data:`OUTPUTS`) have uncommitted changes; None outside a git checkout."""
     try:
         run = lambda *a: subprocess.run(  # noqa: E731
             ["git", *a], cwd=cwd, capture_output=True, text=True, timeout=10, check=True
         ).stdout.strip()
         commit = run("rev-parse", "HEAD")
-        return commit + ("-dirty" if run("status", "--porcelain", "--untracked-files=no") else "")
+        changed = run("status", "--porcelain", "--untracked-files=no", "--", ":(top)",
+                      *(f":(top,exclude){folder}" for folder in OUTPUTS))
+        return commit + ("-dirty" if changed else "")
     except (OSError, subprocess.SubprocessError):
         return None
 
