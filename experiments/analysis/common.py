@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import os
 import sys
 from pathlib import Path
@@ -32,9 +31,10 @@ def read(relative: str) -> pd.DataFrame:
 def save(fig, name: str) -> Path:
     """Write a figure into paper_figs/ atomically and close it."""
     FIGURES.mkdir(exist_ok=True)
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=130, bbox_inches="tight")
-    plt.close(fig)
-    path = atomic_write(FIGURES / name, lambda h: h.write(buffer.getvalue()), binary=True)
+    try:
+        path = atomic_write(FIGURES / name, lambda h: fig.savefig(
+            h, format="png", dpi=130, bbox_inches="tight"), binary=True)
+    finally:
+        plt.close(fig)
     print(f"wrote {path}")
     return path

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import io
 import json
 import multiprocessing
 import shutil
@@ -75,9 +74,8 @@ class Landscape:
     def save(self, path: Path) -> Path:
         meta = {**self.meta, "key": self.key, "checksum": _checksum(self.arrays),
                 "grid": dataclasses.asdict(self.grid)}
-        buffer = io.BytesIO()
-        np.savez_compressed(buffer, meta=np.array(json.dumps(meta)), **self.arrays)
-        return atomic_write(path, lambda h: h.write(buffer.getvalue()), binary=True)
+        return atomic_write(path, lambda h: np.savez_compressed(
+            h, meta=np.array(json.dumps(meta)), **self.arrays), binary=True)
 
     @classmethod
     def load(cls, path: Path, key: str | None = None) -> Landscape:
@@ -126,9 +124,7 @@ def _load_part(path: Path, size: int) -> dict[str, np.ndarray] | None:
 
 
 def _save_part(path: Path, part: dict[str, np.ndarray]) -> None:
-    buffer = io.BytesIO()
-    np.savez(buffer, **part)
-    atomic_write(path, lambda h: h.write(buffer.getvalue()), binary=True)
+    atomic_write(path, lambda h: np.savez(h, **part), binary=True)
 
 
 def sweep(grid: Grid, evaluator: Evaluator, output: Path, workers: int = 1,

@@ -86,12 +86,10 @@ def plot_distributions(dist: pd.DataFrame, title: str, path: Path) -> Path:
                         ha="center", va="bottom", fontsize=7)
     fig.suptitle(title, fontsize=9)
     fig.tight_layout()
-    import io
-
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=130)
-    plt.close(fig)
-    return atomic_write(path, lambda h: h.write(buffer.getvalue()), binary=True)
+    try:
+        return atomic_write(path, lambda h: fig.savefig(h, format="png", dpi=130), binary=True)
+    finally:
+        plt.close(fig)
 
 
 def write_statistics(landscape: Landscape, stem: Path) -> tuple[pd.DataFrame, list[Path]]:

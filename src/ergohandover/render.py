@@ -3,7 +3,6 @@ side (three-quarter front and side) with the location and its scores written und
 
 from __future__ import annotations
 
-import io
 import os
 from pathlib import Path
 
@@ -112,6 +111,4 @@ def save_png(image: Image.Image, lines: list[str], path: str | os.PathLike) -> P
     draw = ImageDraw.Draw(out)
     for i, line in enumerate(lines):
         draw.text((10, image.height + 6 + 18 * i), line, fill="black", font=font)
-    buffer = io.BytesIO()
-    out.save(buffer, format="PNG")
-    return atomic_write(path, lambda handle: handle.write(buffer.getvalue()), binary=True)
+    return atomic_write(path, lambda handle: out.save(handle, format="PNG"), binary=True)

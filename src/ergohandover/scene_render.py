@@ -8,7 +8,6 @@ TinyRenderer, headless.
 
 from __future__ import annotations
 
-import io
 import os
 from pathlib import Path
 
@@ -104,9 +103,8 @@ def contact_sheet(cells: list[tuple[Image.Image, list[str]]], path: str | os.Pat
         for i, line in enumerate(lines):
             draw.text((x + 8, y + small.height + 4 + (font_size + 4) * i), line, fill="black",
                       font=font)
-    buffer = io.BytesIO()
-    sheet.save(buffer, format="PNG", optimize=True)
-    return atomic_write(path, lambda handle: handle.write(buffer.getvalue()), binary=True)
+    return atomic_write(path, lambda handle: sheet.save(handle, format="PNG", optimize=True),
+                        binary=True)
 
 
 def short_label(row, number: int) -> list[str]:
@@ -152,7 +150,6 @@ def carry_gif(renderer: SceneRenderer, carry: Carry, posture: WorkerPosture | No
     palette = frames[len(frames) // 2].quantize(colors=96, method=Image.Quantize.MEDIANCUT)
     quantised = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
     durations = [120] * (len(quantised) - 1) + [hold_ms]
-    buffer = io.BytesIO()
-    quantised[0].save(buffer, format="GIF", save_all=True, append_images=quantised[1:],
-                      duration=durations, loop=0, optimize=True)
-    return atomic_write(path, lambda handle: handle.write(buffer.getvalue()), binary=True)
+    return atomic_write(path, lambda handle: quantised[0].save(
+        handle, format="GIF", save_all=True, append_images=quantised[1:], duration=durations,
+        loop=0, optimize=True), binary=True)

@@ -3,7 +3,6 @@ the result files (trace CSV, best-location CSV, optional Q-table, manifest.json)
 
 from __future__ import annotations
 
-import io
 import math
 import time
 from collections.abc import Callable
@@ -192,15 +191,11 @@ def write_result(result: RunResult, location, output: Path, config: dict, seeds:
              atomic_write_csv(best_locations(result, location), output / "best_locations.csv")]
     if result.q_table is not None:
         states, values = result.q_table
-        buffer = io.BytesIO()
-        np.savez_compressed(buffer, states=states, q=values)
-        paths.append(atomic_write(output / "q_table.npz",
-                                  lambda h: h.write(buffer.getvalue()), binary=True))
+        paths.append(atomic_write(
+            output / "q_table.npz",
+            lambda h: np.savez_compressed(h, states=states, q=values), binary=True))
     if result.model is not None:
-        buffer = io.BytesIO()
-        result.model.save(buffer)
-        paths.append(atomic_write(output / "dqn_model.zip",
-                                  lambda h: h.write(buffer.getvalue()), binary=True))
+        paths.append(atomic_write(output / "dqn_model.zip", result.model.save, binary=True))
     time_s, step = result.first_reached
     best = None if math.isinf(result.best_score) else result.best_score  # JSON has no inf
     summary = {"agent": result.agent, "best_score": best,
