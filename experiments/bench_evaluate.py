@@ -17,9 +17,9 @@ import time
 
 import numpy as np
 
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.evaluate import Evaluator, evaluate, posture_solver
-from ergohandover.task import Boundary, TaskSpec
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import Evaluator, evaluate, posture_solver
+from ergohandover.twin.task import Boundary, TaskSpec
 
 TARGET_PER_S = 10_000
 

@@ -25,14 +25,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ergohandover.agents.qlearning import run_qlearning
-from ergohandover.agents.search import exhaustive, run_hillclimb, run_random
-from ergohandover.agents.trace import Budget
 from ergohandover.envs import HandoverEnv, LandscapeScores, OnlineScores
-from ergohandover.evaluate import Evaluator
-from ergohandover.grid import DEFAULT_STEP, Grid
-from ergohandover.landscape import Landscape, landscape_key, sweep
-from ergohandover.task import Boundary
+from ergohandover.landscape.grid import DEFAULT_STEP, Grid
+from ergohandover.landscape.sweep import Landscape, landscape_key, sweep
+from ergohandover.learning.qlearning import run_qlearning
+from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.learning.trace import Budget
+from ergohandover.twin.evaluate import Evaluator
+from ergohandover.twin.task import Boundary
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_STEPS_PER_S = 50_000
@@ -86,7 +86,7 @@ def online_rates(grid: Grid, steps: int) -> tuple[float, float, int]:
 def run_agent(name: str, landscape: Landscape, seed: int, budget: Budget):
     scores = LandscapeScores(landscape)
     if name == "dqn":
-        from ergohandover.agents.dqn import run_dqn
+        from ergohandover.learning.dqn import run_dqn
 
         return run_dqn(HandoverEnv(scores, observation="position"), budget, seed)
     run = {"qlearning": run_qlearning, "random": run_random, "hillclimb": run_hillclimb}[name]

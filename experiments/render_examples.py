@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ergohandover.atomic import atomic_write_csv
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.commands.evaluate import render_points
-from ergohandover.evaluate import Evaluator, evaluate
-from ergohandover.task import TaskSpec
+from ergohandover.cli.evaluate import render_points
+from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import Evaluator, evaluate
+from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 

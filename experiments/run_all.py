@@ -68,7 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     results = args.results or ROOT / "results" / ("quick" if args.quick else "")
     figures = args.figures or ROOT / "paper_figs" / ("quick" if args.quick else "")
     parts = args.only or list(PARTS)
-    from ergohandover.study import is_done, part_config
+    from ergohandover.study.parts import is_done, part_config
 
     todo = [p for p in parts if p == "figures" or args.force
             or not is_done(results / p, part_config(config, p))]

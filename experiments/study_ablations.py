@@ -20,15 +20,15 @@ import pandas as pd
 import study_landscape
 from study_learning import run_jobs, write_runs
 
-from ergohandover.agents.search import exhaustive
-from ergohandover.atomic import atomic_write_csv
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.evaluate import Evaluator
-from ergohandover.grid import Grid, parse_boundary
-from ergohandover.landscape import Landscape, sweep
-from ergohandover.landscape_stats import statistics
-from ergohandover.study import part_config, run_part, study_main
-from ergohandover.task import TaskSpec
+from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.landscape.grid import Grid, parse_boundary
+from ergohandover.landscape.stats import statistics
+from ergohandover.landscape.sweep import Landscape, sweep
+from ergohandover.learning.search import exhaustive
+from ergohandover.study.parts import part_config, run_part, study_main
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import Evaluator
+from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -14,13 +14,13 @@ from pathlib import Path
 
 import study_landscape
 
-from ergohandover.atomic import atomic_write, atomic_write_csv
-from ergohandover.baselines import PAPER_STARTS, compare
-from ergohandover.commands.baseline import markdown_table, render
-from ergohandover.evaluate import Evaluator
-from ergohandover.landscape import Landscape
-from ergohandover.robot import RobotSpec
-from ergohandover.study import part_config, run_part, study_main
+from ergohandover.cli.baseline import markdown_table, render
+from ergohandover.io.atomic import atomic_write, atomic_write_csv
+from ergohandover.landscape.sweep import Landscape
+from ergohandover.scene.robot import RobotSpec
+from ergohandover.study.baselines import PAPER_STARTS, compare
+from ergohandover.study.parts import part_config, run_part, study_main
+from ergohandover.twin.evaluate import Evaluator
 
 ROOT = Path(__file__).resolve().parents[1]
 

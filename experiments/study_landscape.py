@@ -11,14 +11,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ergohandover.atomic import atomic_write_csv
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.evaluate import Evaluator
-from ergohandover.grid import Grid, parse_boundary
-from ergohandover.landscape import Landscape, sweep
-from ergohandover.landscape_stats import distributions, statistics
-from ergohandover.study import part_config, run_part, study_main
-from ergohandover.task import TaskSpec
+from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.landscape.grid import Grid, parse_boundary
+from ergohandover.landscape.stats import distributions, statistics
+from ergohandover.landscape.sweep import Landscape, sweep
+from ergohandover.study.parts import part_config, run_part, study_main
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import Evaluator
+from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -20,15 +20,15 @@ import pandas as pd
 import study_landscape
 from tqdm import tqdm
 
-from ergohandover.agents.dqn import run_dqn
-from ergohandover.agents.qlearning import QLearningConfig, run_qlearning
-from ergohandover.agents.search import exhaustive, run_hillclimb, run_random
-from ergohandover.agents.trace import Budget
-from ergohandover.atomic import atomic_write_csv
 from ergohandover.envs.handover_env import HandoverEnv
 from ergohandover.envs.scores import LandscapeScores
-from ergohandover.landscape import Landscape
-from ergohandover.study import part_config, run_part, study_main
+from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.landscape.sweep import Landscape
+from ergohandover.learning.dqn import run_dqn
+from ergohandover.learning.qlearning import QLearningConfig, run_qlearning
+from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.learning.trace import Budget
+from ergohandover.study.parts import part_config, run_part, study_main
 
 ROOT = Path(__file__).resolve().parents[1]
 _SCORES: dict[tuple[str, str], LandscapeScores] = {}

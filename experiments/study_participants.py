@@ -18,10 +18,10 @@ from pathlib import Path
 import study_landscape
 from study_landscape import landscape_for
 
-from ergohandover.atomic import atomic_write_csv
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.participants import DEFAULT_WORKER, participant_study
-from ergohandover.study import part_config, run_part, study_main
+from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.study.participants import DEFAULT_WORKER, participant_study
+from ergohandover.study.parts import part_config, run_part, study_main
+from ergohandover.twin.anthropometry import BodySpec
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 from test_handover_env import CENTRE, bowl_env, bowl_landscape, flat
 
-from ergohandover.agents.qlearning import QLearningConfig, adapt_temperature, run_qlearning
-from ergohandover.agents.search import exhaustive, run_hillclimb, run_random
-from ergohandover.agents.trace import TRACE_COLUMNS, Budget, write_result
 from ergohandover.envs import HandoverEnv, LandscapeScores
+from ergohandover.learning.qlearning import QLearningConfig, adapt_temperature, run_qlearning
+from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.learning.trace import TRACE_COLUMNS, Budget, write_result
 
 ADAPTIVE = QLearningConfig(temperature="adaptive")
 
@@ -163,7 +163,7 @@ def test_results_are_written_with_the_most_symmetric_best_location_first(tmp_pat
 
 
 def test_a_short_dqn_run_keeps_its_caps_and_its_best():
-    from ergohandover.agents.dqn import DQNConfig, run_dqn
+    from ergohandover.learning.dqn import DQNConfig, run_dqn
 
     config = DQNConfig(learning_starts=100, buffer_size=1_000, exploration_steps=300)
     runs = [run_dqn(bowl_env(observation="position"), Budget(steps=600), 1, config)

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ergohandover.body.anthropometry import (
+from ergohandover.twin.anthropometry import (
     PAIRED_SEGMENTS,
     PERCENTILES,
     BodySpec,

@@ -12,13 +12,13 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from ergohandover import cli
-from ergohandover.baselines import PAPER_STARTS, optimised, paper_result, shortest_distance
-from ergohandover.commands import baseline
-from ergohandover.evaluate import Evaluator
-from ergohandover.grid import Grid
-from ergohandover.landscape import sweep
-from ergohandover.landscape_stats import minimisers
-from ergohandover.task import Boundary
+from ergohandover.cli import baseline
+from ergohandover.landscape.grid import Grid
+from ergohandover.landscape.stats import minimisers
+from ergohandover.landscape.sweep import sweep
+from ergohandover.study.baselines import PAPER_STARTS, optimised, paper_result, shortest_distance
+from ergohandover.twin.evaluate import Evaluator
+from ergohandover.twin.task import Boundary
 
 coordinate = st.floats(-3.0, 3.0, allow_nan=False, allow_infinity=False)
 TINY = Boundary((-0.05, 0.05), (1.0, 1.2), (0.3, 0.45))

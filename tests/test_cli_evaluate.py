@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from ergohandover.cli import main
-from ergohandover.evaluate import EVALUATION_COLUMNS
+from ergohandover.twin.evaluate import EVALUATION_COLUMNS
 
 
 def run_cli(*args: str) -> subprocess.CompletedProcess:

@@ -6,17 +6,17 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ergohandover.body.anthropometry import BodySpec
 from ergohandover.ergonomics import SCORE_COLUMNS
-from ergohandover.evaluate import (
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import (
     EVALUATION_COLUMNS,
     EvaluationError,
     Evaluator,
     evaluate,
     posture_solver,
 )
-from ergohandover.posture_solver import SolverSettings
-from ergohandover.task import Boundary, TaskSpec
+from ergohandover.twin.solver import SolverSettings
+from ergohandover.twin.task import Boundary, TaskSpec
 
 BODY = BodySpec()
 SEG = BODY.segments()

@@ -20,10 +20,10 @@ from ergohandover.envs import (
     register,
 )
 from ergohandover.envs.handover_env import INFEASIBLE_REWARD, symmetry_term
-from ergohandover.evaluate import Evaluator
-from ergohandover.grid import Grid
-from ergohandover.landscape import Landscape, sweep
-from ergohandover.task import Boundary
+from ergohandover.landscape.grid import Grid
+from ergohandover.landscape.sweep import Landscape, sweep
+from ergohandover.twin.evaluate import Evaluator
+from ergohandover.twin.task import Boundary
 
 BOWL = Boundary((-0.09, 0.09), (1.00, 1.18), (0.30, 0.48))  # 7 x 7 x 7 cells every 3 cm
 CENTRE = (3, 3, 3)

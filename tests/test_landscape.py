@@ -10,14 +10,14 @@ import time
 import numpy as np
 import pytest
 
-from ergohandover import landscape as landscape_module
-from ergohandover.body.anthropometry import BodySpec
 from ergohandover.cli import main
-from ergohandover.evaluate import REASONS, Evaluator, evaluate
-from ergohandover.grid import Grid, parse_boundary
-from ergohandover.landscape import Landscape, LandscapeError, sweep
-from ergohandover.landscape_stats import most_symmetric, statistics
-from ergohandover.task import Boundary, TaskSpec, TaskSpecError
+from ergohandover.landscape import sweep as landscape_module
+from ergohandover.landscape.grid import Grid, parse_boundary
+from ergohandover.landscape.stats import most_symmetric, statistics
+from ergohandover.landscape.sweep import Landscape, LandscapeError, sweep
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.evaluate import REASONS, Evaluator, evaluate
+from ergohandover.twin.task import Boundary, TaskSpec, TaskSpecError
 
 SMALL = Boundary((-0.10, 0.10), (1.00, 1.20), (0.35, 0.50))
 
@@ -133,10 +133,10 @@ def test_kill_9_mid_sweep_then_rerun_gives_the_same_file(tmp_path, monkeypatch):
     out = tmp_path / "l.npz"
     script = textwrap.dedent(f"""
         from pathlib import Path
-        from ergohandover import landscape
-        from ergohandover.evaluate import Evaluator
-        from ergohandover.grid import Grid
-        from ergohandover.task import Boundary
+        from ergohandover.landscape import sweep as landscape
+        from ergohandover.twin.evaluate import Evaluator
+        from ergohandover.landscape.grid import Grid
+        from ergohandover.twin.task import Boundary
         landscape.PART = 500
         grid = Grid(Boundary((-0.10, 0.10), (1.0, 1.2), (0.35, 0.5)), 0.01)
         landscape.sweep(grid, Evaluator(), Path({str(out)!r}), workers=2, progress=False)

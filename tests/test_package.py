@@ -49,7 +49,7 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path):
         assert f"[{part}] reusing finished results" in second.stdout
     # Without the landscape file (not committed), the landscape part is not finished.
     (results / "landscape" / "landscape.npz").unlink()
-    from ergohandover.study import is_done, part_config
+    from ergohandover.study.parts import is_done, part_config
 
     config = json.loads((ROOT / "experiments" / "configs" / "quick.json").read_text())
     assert not is_done(results / "landscape", part_config(config, "landscape"))

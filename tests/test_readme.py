@@ -8,7 +8,7 @@ from pathlib import Path
 import pandas as pd
 
 from ergohandover.ergonomics import score_postures
-from ergohandover.posture_csv import read_postures
+from ergohandover.io.posture_csv import read_postures
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()

@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from ergohandover.box_urdf import box_urdf_text, cached_box_urdf, robot_grasp_offset
-from ergohandover.evaluate import Evaluator, posture_solver
 from ergohandover.frames import worker_to_world
-from ergohandover.robot import ARMS, GRASP_LINK, REASONS, RobotSpec, RobotSpecError
-from ergohandover.task import TaskSpec
-from ergohandover.world import MAX_JOINT_STEP_RAD, WorkerPosture, World
+from ergohandover.scene.box import box_urdf_text, cached_box_urdf, robot_grasp_offset
+from ergohandover.scene.robot import ARMS, GRASP_LINK, REASONS, RobotSpec, RobotSpecError
+from ergohandover.scene.world import MAX_JOINT_STEP_RAD, WorkerPosture, World
+from ergohandover.twin.evaluate import Evaluator, posture_solver
+from ergohandover.twin.task import TaskSpec
 
 # Corners and centre of the paper-code boundary (worker frame [m]).
 PAPER_CODE_POINTS = [(0.0, 1.08, 0.45), (-0.2, 0.72, 0.3), (0.2, 0.72, 0.6), (-0.2, 1.44, 0.6),

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.body.kinematics import KinematicModel
-from ergohandover.body.skeleton import PALM_NORMAL, build_skeleton
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.kinematics import KinematicModel
+from ergohandover.twin.skeleton import PALM_NORMAL, build_skeleton
 
 SIDES = ("left", "right")
 BODIES = {"p50-male": BodySpec(), "p5-female": BodySpec.from_percentile("p5-female")}

@@ -13,7 +13,7 @@ import pytest
 from test_handover_env import bowl_landscape
 
 from ergohandover import cli
-from ergohandover.commands import train
+from ergohandover.cli import train
 
 ROOT = Path(__file__).resolve().parents[1]
 

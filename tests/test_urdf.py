@@ -13,11 +13,11 @@ import pybullet as p
 import pytest
 from pybullet_utils.bullet_client import BulletClient
 
-from ergohandover.atomic import OutputError
-from ergohandover.body.anthropometry import BodySpec
-from ergohandover.body.kinematics import KinematicModel
-from ergohandover.body.skeleton import build_skeleton
-from ergohandover.body.urdf import (
+from ergohandover.io.atomic import OutputError
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.kinematics import KinematicModel
+from ergohandover.twin.skeleton import build_skeleton
+from ergohandover.twin.urdf import (
     cached_urdf,
     default_urdf_path,
     load_worker,

@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import pandas as pd
 
-from ergohandover.atomic import atomic_write
+from ergohandover.io.atomic import atomic_write
 
 ROOT = Path(__file__).resolve().parents[2]
 # run_all --quick points the scripts at results/quick and paper_figs/quick.

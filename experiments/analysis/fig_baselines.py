@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import seaborn as sns
 from common import FIGURES, RESULTS, read, save
 
-from ergohandover.atomic import atomic_write
+from ergohandover.io.atomic import atomic_write
 
 LABELS = {"optimised": "optimised", "shortest_distance": "shortest distance"}
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from common import FIGURES, read
 
-from ergohandover.landscape_stats import plot_distributions
+from ergohandover.landscape.stats import plot_distributions
 
 
 def main() -> None:

@@ -9,7 +9,7 @@ import json
 import pandas as pd
 from common import RESULTS, read
 
-from ergohandover.atomic import atomic_write
+from ergohandover.io.atomic import atomic_write
 
 
 def _manifest(part: str) -> dict:

@@ -10,9 +10,9 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ..grid import DEFAULT_STEP, Grid
-from ..landscape import Landscape
-from ..task import Boundary
+from ..landscape.grid import DEFAULT_STEP, Grid
+from ..landscape.sweep import Landscape
+from ..twin.task import Boundary
 from .scores import SCORE_MAX, LandscapeScores, OnlineScores, ScoreSource, check_objective
 
 ACTIONS = ("+x", "-x", "+y", "-y", "+z", "-z")
@@ -81,7 +81,7 @@ class HandoverEnv(gym.Env):
 
     ## Arguments
     scores: a :class:`~ergohandover.envs.scores.ScoreSource`; if omitted, ``landscape`` (a
-    :class:`~ergohandover.landscape.Landscape` or its file), else online ``evaluate()`` on
+    :class:`~ergohandover.landscape.sweep.Landscape` or its file), else online ``evaluate()`` on
     ``Grid(boundary, step)`` (paper-code boundary by default) for the default worker and box.
     objective, observation, episode_end, target, start, infeasible_reward: see above.
 

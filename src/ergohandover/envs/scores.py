@@ -12,9 +12,9 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-from ..evaluate import Evaluator, evaluate
-from ..grid import Grid
-from ..landscape import Landscape, LandscapeError
+from ..landscape.grid import Grid
+from ..landscape.sweep import Landscape, LandscapeError
+from ..twin.evaluate import Evaluator, evaluate
 
 OBJECTIVES = ("paper_postural", "reba", "reba_ab", "rula")
 """Scores a learner can minimise (lower is safer)."""

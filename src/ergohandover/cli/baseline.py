@@ -1,0 +1,210 @@
+"""``ergohandover baseline``: the optimised handover location against the paper's
+shortest-distance heuristic, from each start point, with the twin's scores and the robot's
+feasibility (the paper's Table "Comparison of Optimized and Ergonomically Naive methods")."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..io.atomic import atomic_write, atomic_write_csv
+from ..io.csv_input import InputError
+from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
+from ..landscape.sweep import Landscape, landscape_key, sweep
+from ..scene.robot import RobotSpec, RobotSpecError
+from ..study.baselines import PAPER_STARTS, compare
+from ..study.manifest import write_manifest
+from ..twin.evaluate import Evaluator
+from ..twin.task import TaskSpec
+from .options import add_body_arguments, body_from_args
+
+DEFAULT_OUTPUT = Path("results") / "baselines" / "baselines.csv"
+LANDSCAPES = Path("results") / "landscapes"
+START = "three finite numbers X,Y,Z in metres, worker frame"
+ROBOT_FLAGS = {"distance": "robot-distance", "arm_spacing": "robot-spacing",
+               "mount_height": "robot-height"}
+
+DESCRIPTION = """\
+For each start point of the box (worker frame, metres: x right, y up, z forward), compare the
+landscape's optimised location (lowest paper postural score, the most symmetric among ties)
+with the paper's naive one (the boundary point nearest the start). At each location: the
+twin's paper postural score, REBA and RULA, and whether the dual-arm robot can carry the box
+there in a straight line and hold it for the handover. Writes a CSV, a markdown table beside
+the paper's numbers and manifest.json (into --output's folder) and prints the table."""
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "baseline", help="optimised vs shortest-distance handover locations from start points",
+        description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--start", action="append", metavar="X,Y,Z",
+                        help="a start point of the box [m]; repeat for several; write "
+                        "--start=-0.4,... when it starts with a minus (default: the paper's "
+                        "five)")
+    parser.add_argument("--boundary", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
+                        help="handover boundary (default: the landscape's, else paper-code)")
+    parser.add_argument("--step", type=float, metavar="S",
+                        help=f"grid step [m] (default: the landscape's, else {DEFAULT_STEP})")
+    add_body_arguments(parser)
+    parser.add_argument("--landscape", type=Path, metavar="FILE",
+                        help="a landscape .npz from `ergohandover sweep` (default: reuse or "
+                        "sweep results/landscapes/<key>/landscape.npz)")
+    parser.add_argument("--output", type=Path, default=DEFAULT_OUTPUT, metavar="FILE",
+                        help=f"CSV to write; the .md table and manifest.json go beside it "
+                        f"(default: {DEFAULT_OUTPUT})")
+    parser.add_argument("--render", type=Path, metavar="DIR",
+                        help="also write a PNG per start and location, a contact sheet and a "
+                        "GIF of the first carry into DIR (created if needed)")
+    group = parser.add_argument_group("robot (docs/robot.md)")
+    defaults = RobotSpec()
+    group.add_argument("--robot-distance", type=float, default=defaults.distance, metavar="M",
+                       help=f"arm bases in front of the worker [m] (default: "
+                       f"{defaults.distance})")
+    group.add_argument("--robot-spacing", type=float, default=defaults.arm_spacing,
+                       metavar="M", help=f"distance between the arm bases [m] (default: "
+                       f"{defaults.arm_spacing})")
+    group.add_argument("--robot-height", type=float, default=defaults.mount_height,
+                       metavar="M", help=f"height of the arm bases [m] (default: "
+                       f"{defaults.mount_height})")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                        help="processes for a sweep (default: all cores)")
+    parser.set_defaults(run=run)
+
+
+def parse_start(text: str) -> np.ndarray:
+    """``X,Y,Z`` -> (3,) [m]; anything else is a one-line InputError."""
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise InputError(f"start = {text!r} is not allowed (expected {START})")
+    return np.array(values)
+
+
+def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
+    """The given landscape (checked against the flags) or the cached/swept one."""
+    body, task = evaluator.body, evaluator.task
+    if args.landscape is not None:
+        landscape = Landscape.load(args.landscape)
+        boundary = (parse_boundary(args.boundary, body, task) if args.boundary
+                    else landscape.grid.boundary)
+        grid = Grid(boundary, args.step or landscape.grid.step)
+        if landscape.key != landscape_key(evaluator, grid):
+            raise InputError(f"landscape = '{args.landscape}' was made with other settings "
+                             f"(worker, boundary, step or version; key {landscape.key}, "
+                             f"expected {landscape_key(evaluator, grid)}); omit --landscape "
+                             "to sweep the matching one")
+        return landscape, args.landscape
+    grid = Grid(parse_boundary(args.boundary or "paper-code", body, task),
+                args.step or DEFAULT_STEP)
+    key = landscape_key(evaluator, grid)
+    output = LANDSCAPES / key / "landscape.npz"
+    output.parent.mkdir(parents=True, exist_ok=True)
+    print(f"landscape: {grid.describe()} -> {output}", file=sys.stderr)
+    start = time.perf_counter()
+    landscape, reused = sweep(grid, evaluator, output, workers=args.workers)
+    if not reused:
+        write_manifest(output, config={"evaluator": dataclasses.asdict(evaluator),
+                                       "grid": dataclasses.asdict(grid), "key": key},
+                       seeds={}, wall_time_s=time.perf_counter() - start)
+    return landscape, output
+
+
+def _cell(value, digits: int = 3) -> str:
+    return "–" if pd.isna(value) else f"{value:.{digits}f}" if isinstance(value, float) \
+        else str(value)
+
+
+def markdown_table(table: pd.DataFrame) -> str:
+    """One line per start: each method's location, scores (ours, the paper's) and robot."""
+    head = ["start (x, y, z) [m]"]
+    for method in ("optimised", "shortest distance"):
+        head += [f"{method} (x, y, z) [m]", "postural: ours (paper)", "REBA", "RULA", "robot"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for _, group in table.groupby(["start_x", "start_y", "start_z"], sort=False):
+        first = group.iloc[0]
+        cells = [f"({first.start_x:.3f}, {first.start_y:.3f}, {first.start_z:.3f})"]
+        for _, row in group.iterrows():
+            ours = _cell(row.paper_postural) if row.feasible else f"infeasible ({row.reason})"
+            paper = "" if pd.isna(row.paper_postural_paper) else \
+                f" ({int(row.paper_postural_paper)})"
+            robot = "yes" if row.robot_feasible else f"no: {row.robot_reason}"
+            cells += [f"({row.x:.3f}, {row.y:.3f}, {row.z:.3f})", ours + paper,
+                      _cell(row.reba), _cell(row.rula), robot]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def run(args: argparse.Namespace) -> int:
+    started = time.perf_counter()
+    if args.workers < 1:
+        raise InputError(f"workers = {args.workers} is outside the valid range (at least 1)")
+    starts = np.array([parse_start(s) for s in args.start]) if args.start else PAPER_STARTS
+    try:
+        robot = RobotSpec(distance=args.robot_distance, arm_spacing=args.robot_spacing,
+                          mount_height=args.robot_height)
+    except RobotSpecError as exc:
+        field = str(exc).split(" = ")[0]
+        raise InputError(str(exc).replace(field, ROBOT_FLAGS.get(field, field), 1)) from None
+    evaluator = Evaluator(body_from_args(args), TaskSpec())
+    if args.output.parent == DEFAULT_OUTPUT.parent:
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+    elif not args.output.parent.is_dir():
+        raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
+                         "not exist")
+    landscape, landscape_path = obtain_landscape(args, evaluator)
+    result = compare(starts, landscape, evaluator, robot)
+    markdown = markdown_table(result.table)
+    atomic_write_csv(result.table, args.output)
+    md_path = atomic_write(args.output.with_suffix(".md"), lambda h: h.write(markdown))
+    pictures = render(result, evaluator, robot, args.render) if args.render else []
+    write_manifest(args.output, config={
+        "starts": starts.tolist(), "evaluator": dataclasses.asdict(evaluator),
+        "robot": dataclasses.asdict(robot), "landscape": str(landscape_path),
+        "landscape_key": landscape.key, "grid": dataclasses.asdict(landscape.grid)},
+        seeds={}, wall_time_s=time.perf_counter() - started,
+        extra={"outputs": [str(args.output), str(md_path), *map(str, pictures)]})
+    print(markdown, end="")
+    print(f"wrote {args.output}, {md_path}", file=sys.stderr)
+    return 0
+
+
+def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
+    """A PNG per row, a contact sheet of them and a GIF of the first row's carry."""
+    from ..scene.render import save_png
+    from ..scene.scene_render import (
+        SceneRenderer,
+        baseline_caption,
+        carry_gif,
+        contact_sheet,
+        short_label,
+    )
+    from ..scene.world import World
+
+    folder.mkdir(parents=True, exist_ok=True)
+    paths, cells = [], []
+    with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
+        for i, (row, carry, hold, posture) in enumerate(zip(
+                result.table.to_dict("records"), result.carries, result.handovers,
+                result.postures, strict=True)):
+            # The carry's last pose if it got there, else the hold found on its own.
+            arms = carry.handover.q if carry.handover.reachable else hold.q
+            renderer.pose(carry.samples[-1].location, arms, posture)
+            views = renderer.views()
+            name = f"start{i // 2 + 1}_{row['method']}.png"
+            paths.append(save_png(views, baseline_caption(row), folder / name))
+            cells.append((views, short_label(row, i // 2 + 1)))
+        sheet = contact_sheet(cells, folder / "baseline_sheet.png")
+        gif = carry_gif(renderer, result.carries[0], result.postures[0], folder / "carry.gif")
+    print(f"wrote {len(paths)} pictures, {sheet.name} and {gif.name} into {folder}",
+          file=sys.stderr)
+    return [*paths, sheet, gif]

@@ -1,0 +1,49 @@
+"""``ergohandover score``: score a table of postures with REBA, RULA and the paper's score."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import pandas as pd
+
+from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
+from ..io.atomic import atomic_write_csv
+from ..io.posture_csv import read_postures
+from .options import add_dataclass_arguments, dataclass_from_args
+
+DESCRIPTION = """\
+Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1993) and the
+paper's additive postural score. Reads a Posture CSV (one posture per row, angles in degrees,
+flexion +; see README "Scoring postures"); writes its columns followed by every score column.
+Optional columns default: load_kg, shock, coupling, activity, muscle_use, *_arm_supported and
+*_arm_across_midline 0; bilateral_support 1; hands_above_neck 0."""
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "score", help="score a Posture CSV with REBA, RULA and the paper's score",
+        description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--input", required=True, metavar="CSV",
+                        help="Posture CSV to read, or - for standard input")
+    parser.add_argument("--output", required=True, metavar="CSV",
+                        help="scores CSV to write (atomically), or - for standard output")
+    add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
+                            "open)")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    settings = dataclass_from_args(ScoringSettings, args)
+    name = "standard input" if args.input == "-" else args.input
+    text, posture = read_postures(args.input, what=name)
+    scores = pd.DataFrame(score_postures(posture, settings))
+    passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
+    table = pd.concat([passthrough, scores], axis=1)
+    if args.output == "-":
+        table.to_csv(sys.stdout, index=False)
+    else:
+        atomic_write_csv(table, args.output)
+        print(f"scored {len(table)} postures -> {args.output}", file=sys.stderr)
+    return 0

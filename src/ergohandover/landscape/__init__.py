@@ -1,0 +1,1 @@
+"""The exhaustive landscape: the grid, the cached sweep of every grid point, its statistics."""

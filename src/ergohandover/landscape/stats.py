@@ -1,0 +1,104 @@
+"""Statistics of a landscape: score distributions over feasible points, the minimum and where
+it is reached (count, bounding box, the most symmetric minimiser), the feasible fraction."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..io.atomic import atomic_write, atomic_write_csv
+from .sweep import Landscape
+
+STAT_SCORES = ("paper_postural", "reba", "reba_ab", "rula")
+
+
+def most_symmetric(points: np.ndarray) -> int:
+    """Index of the most symmetric of (n, 3) locations: smallest |x|; among those, nearest to
+    their centroid; then the first."""
+    lateral = np.abs(points[:, 0])
+    best = np.flatnonzero(np.isclose(lateral, lateral.min(), rtol=0, atol=1e-9))
+    centre = points[best].mean(axis=0)
+    return int(best[np.argmin(np.linalg.norm(points[best] - centre, axis=1))])
+
+
+def minimisers(landscape: Landscape, score: str) -> np.ndarray:
+    """Flat indices of the feasible points at the score's minimum."""
+    values = landscape.arrays[score]
+    feasible = landscape.feasible
+    return np.flatnonzero(feasible & (values == values[feasible].min()))
+
+
+def statistics(landscape: Landscape) -> pd.DataFrame:
+    """One row per score: feasible count and fraction, minimum, how many points reach it and
+    where (bounding box, most symmetric minimiser), worker frame [m]."""
+    feasible = landscape.feasible
+    if not feasible.any():
+        raise ValueError("the landscape has no feasible point")
+    rows = []
+    for score in STAT_SCORES:
+        at_min = minimisers(landscape, score)
+        points = landscape.grid.coordinates(at_min)
+        best = points[most_symmetric(points)]
+        rows.append({
+            "score": score, "points": landscape.grid.size, "feasible": int(feasible.sum()),
+            "feasible_fraction": feasible.mean(),
+            "min": int(landscape.arrays[score][at_min[0]]), "n_at_min": len(at_min),
+            "fraction_at_min": len(at_min) / feasible.sum(),
+            **{f"{a}_{e}": f(points[:, k]) for k, a in enumerate("xyz")
+               for e, f in (("min", np.min), ("max", np.max))},
+            "best_x": best[0], "best_y": best[1], "best_z": best[2],
+        })
+    return pd.DataFrame(rows)
+
+
+def distributions(landscape: Landscape) -> pd.DataFrame:
+    """Counts and fractions of each score value over the feasible points."""
+    feasible = landscape.feasible
+    frames = []
+    for score in STAT_SCORES:
+        values, counts = np.unique(landscape.arrays[score][feasible], return_counts=True)
+        frames.append(pd.DataFrame({"score": score, "value": values.astype(int),
+                                    "count": counts, "fraction": counts / feasible.sum()}))
+    return pd.concat(frames, ignore_index=True)
+
+
+def plot_distributions(dist: pd.DataFrame, title: str, path: Path) -> Path:
+    """The paper's 'distribution of postural score' figure, one panel per score."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import seaborn as sns
+
+    scores = list(dict.fromkeys(dist["score"]))
+    fig, axes = plt.subplots(1, len(scores), figsize=(4 * len(scores), 3.6), squeeze=False)
+    for ax, score in zip(axes[0], scores, strict=True):
+        part = dist[dist["score"] == score]
+        sns.barplot(data=part, x="value", y="fraction", ax=ax, color="#3b75af")
+        ax.set_title(score)
+        ax.set_xlabel("score")
+        ax.set_ylabel("fraction of feasible points")
+        for patch, fraction in zip(ax.patches, part["fraction"], strict=False):
+            ax.annotate(f"{fraction:.1%}" if fraction >= 0.001 else f"{fraction:.4%}",
+                        (patch.get_x() + patch.get_width() / 2, patch.get_height()),
+                        ha="center", va="bottom", fontsize=7)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    try:
+        return atomic_write(path, lambda h: fig.savefig(h, format="png", dpi=130), binary=True)
+    finally:
+        plt.close(fig)
+
+
+def write_statistics(landscape: Landscape, stem: Path) -> tuple[pd.DataFrame, list[Path]]:
+    """Write ``<stem>_stats.csv``, ``<stem>_distribution.csv`` and ``<stem>_distribution.png``."""
+    stats, dist = statistics(landscape), distributions(landscape)
+    paths = [atomic_write_csv(stats, stem.with_name(stem.name + "_stats.csv")),
+             atomic_write_csv(dist, stem.with_name(stem.name + "_distribution.csv"))]
+    title = (f"{landscape.grid.describe()}; N = {int(landscape.feasible.sum()):,} feasible "
+             f"points")
+    paths.append(plot_distributions(dist, title,
+                                    stem.with_name(stem.name + "_distribution.png")))
+    return stats, paths

@@ -1,0 +1,134 @@
+"""Search baselines on the learners' budget: uniform random search, greedy hill-climbing with
+random restarts, and exhaustive search (the landscape's minimum: the ground truth)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..envs.handover_env import HandoverEnv
+from ..landscape.stats import minimisers, most_symmetric
+from ..landscape.sweep import Landscape
+from .qlearning import seeds_of
+from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+
+
+def run_random(env, budget: Budget, seed: int, progress: Progress | None = None) -> RunResult:
+    """Score uniformly random cells (with replacement); one step = one score evaluation.
+
+    Args:
+        env: a :class:`HandoverEnv` (its score source and grid are used).
+        budget: time and/or step cap.
+        seed: the run's seed (the cells are pre-drawn in blocks from one Generator).
+        progress: called every :data:`BLOCK` steps.
+    """
+    base: HandoverEnv = env.unwrapped
+    _, rng = seeds_of(seed)
+    score, size = base.scores.score, base.grid.size
+    best = BestSoFar(base.location)
+    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    step_limit, time_limit = budget.step_limit, budget.time_limit
+    steps, best_score, done = 0, math.inf, False
+    while not done and steps < step_limit and best.elapsed() < time_limit:
+        for cell in rng.integers(size, size=int(min(BLOCK, step_limit - steps))).tolist():
+            steps += 1
+            s = score(cell)
+            if s <= best_score:
+                best.offer(steps, s, cell)
+                best_score = s
+                if s <= stop_score:
+                    done = True
+                    break
+        if progress:
+            progress(steps, best.elapsed())
+    return finish("random", best, steps, budget)
+
+
+def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = None) -> RunResult:
+    """Steepest ascent of the env's reward over the 6-neighbourhood, restarted at a random cell
+    (the env's reset) at every local optimum or terminal cell.
+
+    The reward (1/E² plus the symmetry term) rather than the bare score is climbed, so that a
+    plateau of equal scores still has a direction (toward the midline) as it has for the
+    learners. One step = one transition (a neighbour evaluated), so budgets compare with them.
+
+    Args:
+        env: a :class:`HandoverEnv` (possibly wrapped).
+        budget: time and/or step cap.
+        seed: the run's seed (the env's random starts).
+        progress: called about every :data:`BLOCK` steps.
+    """
+    base: HandoverEnv = env.unwrapped
+    env_seed, _ = seeds_of(seed)
+    env.reset(seed=env_seed)
+    transition, score_of = base.transition, base.scores.score
+    best = BestSoFar(base.location)
+    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    step_limit, time_limit = budget.step_limit, budget.time_limit
+    cell = base.cell
+    here, best_score = base.reward(cell), score_of(cell)
+    best.offer(0, best_score, cell)
+    steps, restarts, next_check = 0, 0, BLOCK
+    done = best_score <= stop_score
+    while not done and steps < step_limit:
+        if steps >= next_check:
+            next_check += BLOCK
+            if progress:
+                progress(steps, best.elapsed())
+            if best.elapsed() >= time_limit:
+                break
+        move, move_reward, terminal = cell, here, False
+        for a in range(6):
+            if steps >= step_limit:
+                break
+            nxt, s, r, terminated = transition(cell, a)
+            steps += 1
+            if s <= best_score:
+                best.offer(steps, s, nxt)
+                best_score = s
+                if s <= stop_score:
+                    done = True
+                    break
+            if r > move_reward:
+                move, move_reward, terminal = nxt, r, terminated
+        if move == cell or terminal:
+            env.reset()
+            cell, restarts = base.cell, restarts + 1
+            here, s = base.reward(cell), score_of(cell)
+            if s <= best_score:
+                best.offer(steps, s, cell)
+                best_score = s
+                done = done or s <= stop_score
+        else:
+            cell, here = move, move_reward
+    if progress:
+        progress(steps, best.elapsed())
+    return finish("hillclimb", best, steps, budget, {"restarts": restarts})
+
+
+@dataclass(frozen=True)
+class Exhaustive:
+    """The ground truth of a landscape for one objective.
+
+    Attributes:
+        score: the lowest feasible score.
+        cells: flat indices of every cell at it.
+        location: the most symmetric of them (x, y, z) [m].
+        fraction: share of the feasible cells at the minimum.
+    """
+
+    score: float
+    cells: np.ndarray
+    location: tuple[float, float, float]
+    fraction: float
+
+
+def exhaustive(landscape: Landscape, objective: str = "paper_postural") -> Exhaustive:
+    """Read the landscape's minimum of ``objective`` (every cell was evaluated by the sweep)."""
+    cells = minimisers(landscape, objective)
+    points = landscape.grid.coordinates(cells)
+    location = tuple(float(v) for v in points[most_symmetric(points)])
+    return Exhaustive(float(landscape.arrays[objective][cells[0]]), cells, location,
+                      len(cells) / int(landscape.feasible.sum()))

@@ -1,0 +1,207 @@
+"""What every agent shares: the budget, the best-so-far record with its time-stamped trace, and
+the result files (trace CSV, best-location CSV, optional Q-table, manifest.json)."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..io.atomic import atomic_write, atomic_write_csv
+from ..landscape.stats import most_symmetric
+from ..study.manifest import write_manifest
+
+TRACE_COLUMNS = ("time_s", "step", "best_score", "best_x", "best_y", "best_z")
+BLOCK = 4096
+"""Steps between clock checks, progress updates and refills of pre-drawn random numbers:
+~10-20 ms of the tabular learner, so a time cap is kept to within a few hundredths of a second."""
+
+Progress = Callable[[int, float], None]
+"""Called as ``progress(steps_done, elapsed_s)`` every :data:`BLOCK` steps."""
+
+
+@dataclass(frozen=True)
+class Budget:
+    """When a run stops: a wall-clock cap, a step cap (either or both), or a score reached.
+
+    Args:
+        time_cap_s: wall-clock cap [s].
+        steps: step cap [env steps; score evaluations for random search].
+        stop_score: stop as soon as a score at or below this is seen (benchmarks of
+            time-to-minimum); None runs to the cap, as the paper does.
+    """
+
+    time_cap_s: float | None = None
+    steps: int | None = None
+    stop_score: float | None = None
+
+    def __post_init__(self):
+        if self.time_cap_s is None and self.steps is None:
+            raise ValueError("a budget needs a time cap or a step cap")
+        if self.time_cap_s is not None and not (math.isfinite(self.time_cap_s)
+                                                and self.time_cap_s > 0):
+            raise ValueError(f"time_cap_s = {self.time_cap_s!r} is outside the valid range "
+                             "(> 0 s)")
+        if self.steps is not None and self.steps < 1:
+            raise ValueError(f"steps = {self.steps!r} is outside the valid range (at least 1)")
+
+    @property
+    def step_limit(self) -> int | float:
+        return math.inf if self.steps is None else self.steps
+
+    @property
+    def time_limit(self) -> float:
+        return math.inf if self.time_cap_s is None else self.time_cap_s
+
+
+class BestSoFar:
+    """The lowest score seen, every distinct cell where it was seen, and a time-stamped trace.
+
+    Agents call :meth:`offer` only when ``score <= best`` (the comparison stays in their loop);
+    a strictly lower score starts a new set of cells and adds a trace row.
+
+    Args:
+        location: flat cell -> (x, y, z) [m].
+    """
+
+    def __init__(self, location: Callable[[int], tuple[float, float, float]]):
+        self.location = location
+        self.best = math.inf
+        self.cells: dict[int, int] = {}  # cell at the best score -> step first seen there
+        self.rows: list[tuple] = []
+        self.start = time.perf_counter()
+        self.stopped: float | None = None
+
+    def offer(self, step: int, score: float, cell: int) -> None:
+        if score == math.inf:  # an infeasible cell is never a best location
+            return
+        if score < self.best:
+            self.best = score
+            self.cells = {cell: step}
+            self.rows.append((time.perf_counter() - self.start, step, score,
+                              *self.location(cell)))
+        elif cell not in self.cells:
+            self.cells[cell] = step
+
+    def elapsed(self) -> float:
+        """Seconds since the run started (until :meth:`stop`)."""
+        if self.stopped is not None:
+            return self.stopped
+        return time.perf_counter() - self.start
+
+    def stop(self) -> None:
+        """Freeze the clock: the search is over (what follows is bookkeeping)."""
+        self.stopped = self.elapsed()
+
+
+@dataclass
+class RunResult:
+    """What an agent's run found.
+
+    Attributes:
+        agent: the agent's name.
+        best_score: lowest score seen (``inf`` if only infeasible cells were seen).
+        best_cells: flat cell -> step first seen, for every cell at ``best_score``.
+        trace: one row per improvement and a last row at the end (:data:`TRACE_COLUMNS`).
+        steps: steps taken.
+        elapsed_s: wall time [s].
+        stopped_by: ``time_cap``, ``step_cap`` or ``stop_score``.
+        info: agent-specific figures (episodes, final temperature, ...).
+        q_table: (visited states (n,), Q-values (n, 6)) for the tabular learner.
+        model: the trained network (an SB3 model) for DQN.
+    """
+
+    agent: str
+    best_score: float
+    best_cells: dict[int, int]
+    trace: pd.DataFrame
+    steps: int
+    elapsed_s: float
+    stopped_by: str
+    info: dict = field(default_factory=dict)
+    q_table: tuple[np.ndarray, np.ndarray] | None = None
+    model: Any = None
+
+    @property
+    def first_reached(self) -> tuple[float, int]:
+        """(time [s], step) at which ``best_score`` was first seen."""
+        row = self.trace.iloc[-2] if len(self.trace) > 1 else self.trace.iloc[-1]
+        return float(row["time_s"]), int(row["step"])
+
+
+def finish(agent: str, best: BestSoFar, steps: int, budget: Budget, info: dict | None = None,
+           q_table=None, model=None) -> RunResult:
+    """Close a run: the final trace row and why it stopped."""
+    best.stop()
+    elapsed = best.elapsed()
+    if budget.stop_score is not None and best.best <= budget.stop_score:
+        stopped_by = "stop_score"
+    else:
+        stopped_by = "step_cap" if steps >= budget.step_limit else "time_cap"
+    last = best.rows[-1][2:] if best.rows else (math.inf, math.nan, math.nan, math.nan)
+    rows = [*best.rows, (elapsed, steps, *last)]
+    # Grid coordinates are lower + i * step: round away the float noise (to 1 µm, 1 µs).
+    trace = pd.DataFrame(rows, columns=TRACE_COLUMNS).round(6)
+    return RunResult(agent, best.best, best.cells, trace, steps, elapsed, stopped_by,
+                     info or {}, q_table, model)
+
+
+def best_locations(result: RunResult, location) -> pd.DataFrame:
+    """The cells at the best score, the most symmetric first, then by |x|, y, z.
+
+    Args:
+        result: a run.
+        location: flat cell -> (x, y, z) [m].
+    """
+    cells = list(result.best_cells)
+    if not cells:
+        return pd.DataFrame(columns=["x", "y", "z", "score", "cell", "first_step"])
+    points = np.array([location(c) for c in cells])  # (n, 3)
+    first = most_symmetric(points)
+    order = sorted(range(len(cells)), key=lambda i: (i != first, abs(points[i, 0]),
+                                                     points[i, 1], points[i, 2]))
+    points = points.round(6)  # grid coordinates are lower + i * step: float noise below 1 µm
+    return pd.DataFrame({
+        "x": points[order, 0], "y": points[order, 1], "z": points[order, 2],
+        "score": result.best_score, "cell": [cells[i] for i in order],
+        "first_step": [result.best_cells[cells[i]] for i in order]})
+
+
+def write_result(result: RunResult, location, output: Path, config: dict, seeds: dict,
+                 extra: dict | None = None) -> list[Path]:
+    """Write ``trace.csv``, ``best_locations.csv``, ``q_table.npz`` or ``dqn_model.zip`` (if
+    any) and ``manifest.json`` into ``output`` (created if needed), each atomically.
+
+    Args:
+        result: the run.
+        location: flat cell -> (x, y, z) [m].
+        output: the result directory.
+        config: the resolved configuration (goes into the manifest).
+        seeds: every seed, by concern.
+        extra: more figures for the manifest.
+    """
+    output.mkdir(parents=True, exist_ok=True)
+    paths = [atomic_write_csv(result.trace, output / "trace.csv"),
+             atomic_write_csv(best_locations(result, location), output / "best_locations.csv")]
+    if result.q_table is not None:
+        states, values = result.q_table
+        paths.append(atomic_write(
+            output / "q_table.npz",
+            lambda h: np.savez_compressed(h, states=states, q=values), binary=True))
+    if result.model is not None:
+        paths.append(atomic_write(output / "dqn_model.zip", result.model.save, binary=True))
+    time_s, step = result.first_reached
+    best = None if math.isinf(result.best_score) else result.best_score  # JSON has no inf
+    summary = {"agent": result.agent, "best_score": best,
+               "n_best_locations": len(result.best_cells), "first_reached_s": round(time_s, 4),
+               "first_reached_step": step, "steps": result.steps,
+               "stopped_by": result.stopped_by, **result.info, **(extra or {})}
+    paths.append(write_manifest(output, config=config, seeds=seeds,
+                                wall_time_s=result.elapsed_s, extra={"summary": summary}))
+    return paths

@@ -1,0 +1,1 @@
+"""The study: its parts and manifests, the baselines and the simulated participants."""

@@ -1,0 +1,89 @@
+"""Parts of a study run: each writes into its own results folder and finishes by writing a
+``manifest.json`` that records the hash of its configuration; a part whose manifest matches is
+done and is reused (so an interrupted ``run_all`` resumes where it stopped)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from .. import __version__
+from .manifest import write_manifest
+
+
+def config_hash(config: dict[str, Any]) -> str:
+    """A short hash of a part's configuration and the package version."""
+    text = json.dumps({"config": config, "version": __version__}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
+    """What a part's results depend on: its own section of the study configuration and, for
+    every part after it, the landscape's (they all read the landscape)."""
+    own = dict(config[part])
+    return own if part == "landscape" else {**own, "landscape": config["landscape"]}
+
+
+def is_done(folder: Path, config: dict[str, Any]) -> bool:
+    """True when ``folder`` holds a finished part made with this configuration, with every
+    file later parts need (``required_files`` of its manifest; e.g. the landscape, which is
+    not committed, so a fresh clone sweeps it again)."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    present = all((folder / name).exists() for name in manifest.get("required_files", []))
+    return present and manifest.get("part_hash") == config_hash(config)
+
+
+def run_part(name: str, folder: Path, config: dict[str, Any],
+             work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
+             force: bool = False, required_files: tuple[str, ...] = ()) -> bool:
+    """Run ``work(folder)`` unless the part is already done; then write its manifest.
+
+    Args:
+        name: the part's name (for messages).
+        folder: where the part writes its results.
+        config: the part's resolved configuration (hashed into the manifest).
+        work: does the part; may return extra figures for the manifest.
+        seeds: every seed used.
+        force: run even if done.
+        required_files: files in ``folder`` that later parts read; the part is not done
+            without them.
+
+    Returns:
+        True if the part ran, False if it was reused.
+    """
+    if not force and is_done(folder, config):
+        print(f"[{name}] reusing finished results in {folder}")
+        return False
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "manifest.json").unlink(missing_ok=True)  # not done until it is rewritten
+    start = time.perf_counter()
+    extra = work(folder) or {}
+    write_manifest(folder, config={"part": name, **config}, seeds=seeds or {},
+                   wall_time_s=time.perf_counter() - start,
+                   extra={"part_hash": config_hash(config),
+                          "required_files": list(required_files), **extra})
+    return True
+
+
+def study_main(run: Callable[..., None], doc: str, root: Path) -> None:
+    """The command line shared by every ``experiments/study_<part>.py``: run that part alone
+    (always, even if finished) with ``--config``, ``--results`` and ``--workers``."""
+    import argparse
+    import os
+
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--config", type=Path, default=root / "experiments/configs/default.json",
+                        help="study configuration (default: experiments/configs/default.json)")
+    parser.add_argument("--results", type=Path, default=root / "results",
+                        help="results folder (default: results/)")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                        help="processes (default: all cores)")
+    args = parser.parse_args()
+    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)

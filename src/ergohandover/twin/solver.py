@@ -1,0 +1,228 @@
+"""Whole-body bimanual posture solver: batched damped Gauss-Newton over N box locations.
+
+For each box location the worker grips both handles and takes the posture that minimises a
+weighted sum of squares:
+
+- **hands** (weight ``hand``): each grip point on its handle;
+- **palms** (``palm``): each palm's normal pointing at the box (medially);
+- **gaze** (``gaze``): the box centre within 25° (eye rotation) of the head's natural line of
+  sight, which is 15° below the head's horizontal (Grandjean); beyond that cone the head turns;
+- **balance** (``balance``): the centre of mass, the box's weight in the hands included, kept
+  ``balance_margin`` inside the feet's support rectangle (a hinge: no cost inside it);
+- **joint preference** (``JOINT_PREFERENCE``): each joint pulled toward its neutral angle with
+  its own weight; these make the motion humanlike (see the table's comments).
+
+Levenberg-Marquardt with a damping per location: a step that raises the cost is rejected and
+the damping raised, so the stiff hand task and the soft preferences cannot make the iteration
+oscillate. Joint limits hold by projection; a joint held at a limit sits out the step. Each
+location starts from :mod:`~ergohandover.warm_start`'s interpolated lattice and runs a fixed
+number of iterations with per-location arithmetic, so its posture never depends on the rest of
+the batch (deterministic and order-independent).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..frames import worker_to_world
+from .anthropometry import BodySpec
+from .kinematics import KinematicModel, KinematicState
+from .skeleton import build_skeleton
+from .task import TaskSpec
+from .tasks import Targets, stack_tasks
+from .warm_start import StartLattice
+
+# Joint -> (neutral angle [deg], preference weight). Higher weight: the twin moves that joint
+# less. What each changes: ankle/knee - how readily the twin squats rather than stoops;
+# hip/lumbar flexion - the split of a stoop between hip hinge and spine; side bend/twist - how
+# reluctantly the trunk and neck leave the sagittal plane; clavicle - shrugging; shoulder vs
+# elbow - reaching with the upper arm or unfolding the forearm; wrist/pronation - how much
+# the hand, rather than the arm, adapts to the handle.
+JOINT_PREFERENCE: dict[str, tuple[float, float]] = {
+    "ankle_flexion": (0.0, 4.0),
+    "knee_flexion": (0.0, 1.5),
+    "hip_flexion": (0.0, 1.5),
+    "lumbar_flexion": (0.0, 2.5),
+    "lumbar_side_bend": (0.0, 3.0),
+    "lumbar_twist": (0.0, 3.0),
+    "neck_flexion": (0.0, 0.4),
+    "neck_side_bend": (0.0, 3.0),
+    "neck_twist": (0.0, 1.5),
+    "clavicle_elevation": (0.0, 3.0),
+    "shoulder_flexion": (0.0, 0.10),
+    "shoulder_abduction": (0.0, 0.4),
+    "shoulder_rotation": (0.0, 0.3),
+    "elbow_flexion": (60.0, 0.05),
+    "forearm_pronation": (0.0, 0.15),
+    "wrist_flexion": (0.0, 0.6),
+    "wrist_deviation": (0.0, 0.8),
+}
+# Where the lattice's solves start: standing, upper arms slightly forward, forearms forward.
+START_POSTURE_DEG = {"shoulder_flexion": 20.0, "elbow_flexion": 80.0}
+SIGHT_PITCH_DEG = 15.0  # natural line of sight below the head's horizontal (Grandjean)
+EYE_CONE_DEG = 25.0  # eye rotation from the natural line of sight held without strain
+
+
+def support_rectangle(body: BodySpec) -> tuple[float, float, float, float]:
+    """The feet's support rectangle (x0, x1, y0, y1), heel to toe and outer edge to outer
+    edge, world frame [m]."""
+    seg = body.segments()
+    half = seg.hip_width / 2 + seg.foot_width / 2
+    return (-seg.heel_to_ankle, seg.foot_length - seg.heel_to_ankle, -half, half)
+
+
+def handover_targets(task: TaskSpec, locations: np.ndarray) -> Targets:
+    """Handles and box centre in the world frame for (N, 3) worker-frame box locations."""
+    left, right = task.handles(locations)
+    return Targets(worker_to_world(left), worker_to_world(right), worker_to_world(locations))
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Weights and iteration budget of the posture solver (model parameters, documented above).
+
+    Attributes:
+        hand: weight of the grip-on-handle task [1/m²].
+        palm: weight of palm orientation [1].
+        gaze: weight of the line of sight beyond the eyes' cone [1/rad²].
+        balance: weight of the centre-of-mass hinge [1/m²].
+        balance_margin: how far inside the support rectangle the hinge starts [m].
+        damping: initial Levenberg-Marquardt damping [1].
+        max_step_deg: largest change of any joint in one iteration [deg].
+        iterations: iterations from the interpolated start.
+        lattice_iterations: iterations for the lattice postures, from standing.
+    """
+
+    hand: float = 1e4
+    palm: float = 2.0
+    gaze: float = 1.0
+    balance: float = 1e4
+    balance_margin: float = 0.02
+    damping: float = 1e-3
+    max_step_deg: float = 15.0
+    iterations: int = 12
+    lattice_iterations: int = 100
+
+
+class Solution(NamedTuple):
+    """Solved postures of N box locations."""
+
+    q: np.ndarray  # (N, nq) [rad]
+    hand_error: np.ndarray  # (N,) the worse hand's distance from its handle [m]
+    com: np.ndarray  # (N, 3) centre of mass with the box, world frame [m]
+    state: KinematicState  # forward kinematics of q
+
+
+class PostureSolver:
+    """Whole-body handover postures of one worker for one task.
+
+    Args:
+        body: the worker.
+        task: the box and its handles.
+        settings: solver weights and budget.
+    """
+
+    def __init__(self, body: BodySpec | None = None, task: TaskSpec | None = None,
+                 settings: SolverSettings | None = None):
+        self.body = body or BodySpec()
+        self.task = task or TaskSpec()
+        self.settings = settings or SolverSettings()
+        self.model = KinematicModel(build_skeleton(self.body))
+        self.support = support_rectangle(self.body)
+        base = [n.removeprefix("left_").removeprefix("right_") for n in self.model.joint_names]
+        self.neutral = np.radians([JOINT_PREFERENCE[b][0] for b in base])  # (nq,)
+        self.preference = np.array([JOINT_PREFERENCE[b][1] for b in base])  # (nq,)
+        standing = np.radians([START_POSTURE_DEG.get(b, 0.0) for b in base])
+        self.standing = np.clip(standing, self.model.lower, self.model.upper)
+        pitch = np.radians(SIGHT_PITCH_DEG)
+        self.sight = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])  # gaze-link frame
+        self.eye_cone = np.radians(EYE_CONE_DEG)
+        self._lattice: StartLattice | None = None
+
+    @property
+    def lattice(self) -> StartLattice:
+        """The warm-start lattice, solved on first use (about a thousand locations)."""
+        if self._lattice is None:
+            axes, nodes = StartLattice.nodes(self.body.stature_m)
+            start = np.broadcast_to(self.standing, (len(nodes), self.model.nq))
+            q = self.iterate(nodes, start, self.settings.lattice_iterations).q
+            self._lattice = StartLattice(axes, q.reshape(*(len(a) for a in axes), -1))
+        return self._lattice
+
+    def solve(self, locations: np.ndarray) -> Solution:
+        """Postures for box centres at ``locations`` (N, 3), worker frame [m]."""
+        locations = np.asarray(locations, dtype=float).reshape(-1, 3)
+        return self.iterate(locations, self.lattice.start(locations), self.settings.iterations)
+
+    def targets(self, locations: np.ndarray) -> Targets:
+        """Handles and box centre in the world frame for (N, 3) worker-frame locations."""
+        return handover_targets(self.task, locations)
+
+    def iterate(self, locations: np.ndarray, start: np.ndarray, iterations: int) -> Solution:
+        """Run ``iterations`` Levenberg-Marquardt steps from ``start`` (N, nq) [rad]."""
+        s = self.settings
+        targets = self.targets(locations)
+        half = self.task.box_mass_kg / 2.0
+        extra = {"left_grip": half, "right_grip": half}
+        max_step = np.radians(s.max_step_deg)
+        lower, upper = self.model.lower, self.model.upper
+
+        def tasks(q):
+            return stack_tasks(self.model.forward(q), targets, s, self.sight, self.eye_cone,
+                               self.support, s.balance_margin, extra)
+
+        q = np.array(start, dtype=float)
+        jac, res, weight = tasks(q)
+        root_weight = np.sqrt(weight)  # (m,)
+        cost = self._cost(q, res, weight)
+        lam = np.full(len(q), s.damping)
+        for _ in range(iterations):
+            wjac = jac * root_weight[None, :, None]  # (N, m, nq)
+            grad = (np.einsum("nmq,nm->nq", wjac, res * root_weight)
+                    + self.preference * (q - self.neutral))
+            # Joints held at a limit by a gradient pushing outward take no part in the step.
+            held = ((q <= lower) & (grad > 0)) | ((q >= upper) & (grad < 0))
+            inv_diag = 1.0 / (self.preference + lam[:, None] + 1e9 * held)  # (N, nq)
+            step = -_woodbury_solve(wjac, inv_diag, grad)
+            # Scale, not clip, so that the step keeps its direction.
+            biggest = np.abs(step).max(axis=1, keepdims=True)
+            step *= np.minimum(1.0, max_step / np.maximum(biggest, 1e-12))
+            q_new = np.clip(q + step, lower, upper)
+            jac_new, res_new, _ = tasks(q_new)
+            cost_new = self._cost(q_new, res_new, weight)
+            better = cost_new <= cost
+            q = np.where(better[:, None], q_new, q)
+            jac = np.where(better[:, None, None], jac_new, jac)
+            res = np.where(better[:, None], res_new, res)
+            cost = np.where(better, cost_new, cost)
+            lam = np.clip(np.where(better, lam * 0.3, lam * 10.0), 1e-6, 1e6)
+        state = self.model.forward(q)
+        error = np.maximum(np.linalg.norm(state.point("left_grip") - targets.left, axis=1),
+                           np.linalg.norm(state.point("right_grip") - targets.right, axis=1))
+        return Solution(q, error, state.com(extra), state)
+
+    def _cost(self, q: np.ndarray, res: np.ndarray, weight: np.ndarray) -> np.ndarray:
+        """(N,) total cost: weighted task residuals plus joint preferences."""
+        return 0.5 * ((res**2) @ weight + ((q - self.neutral) ** 2) @ self.preference)
+
+
+def _woodbury_solve(wjac: np.ndarray, inv_diag: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve (D + Jᵀ J) x = rhs for diagonal D through the m x m system (m < nq rows).
+
+    Woodbury: (D + JᵀJ)⁻¹ = D⁻¹ - D⁻¹Jᵀ (I + J D⁻¹ Jᵀ)⁻¹ J D⁻¹.
+
+    Args:
+        wjac: (N, m, nq) weighted Jacobian J.
+        inv_diag: (N, nq) the inverse of D's diagonal.
+        rhs: (N, nq).
+    """
+    scaled = wjac * inv_diag[:, None, :]  # J D⁻¹, (N, m, nq)
+    inner = np.matmul(scaled, wjac.transpose(0, 2, 1))  # (N, m, m)
+    m = inner.shape[1]
+    inner[:, np.arange(m), np.arange(m)] += 1.0
+    u = inv_diag * rhs  # D⁻¹ rhs
+    v = np.linalg.solve(inner, np.einsum("nmq,nq->nm", wjac, u)[..., None])[..., 0]
+    return u - np.einsum("nmq,nm->nq", scaled, v)

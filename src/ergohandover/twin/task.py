@@ -1,0 +1,96 @@
+"""The handover task: the box, its handles, and the boundary in which it may be handed over.
+
+All positions are in the worker frame (x right, y up, z forward; metres). A location is the
+centre of the box; the handles sit on its left and right faces, at the box centre's height and
+depth, ``handle_span`` apart.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..ranges import check_ranges, ranged
+from .anthropometry import BodySpec
+
+
+class TaskSpecError(ValueError):
+    """A task setting outside its valid range; the message is one line."""
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """A box with two side handles, handed to a worker standing with both feet planted.
+
+    Defaults describe a small construction box (fixings, a tool case): 0.36 m wide so that the
+    handles, 0.40 m apart, meet the hands at about shoulder width; 0.25 m high and 0.30 m deep;
+    6 kg, inside one-person lifting guidance and in REBA's 5–10 kg load band. Moulded handles
+    with a power grip give coupling 0 ("good"). Holding the box for the handover is neither
+    static beyond a minute nor repeated, so activity is 0.
+    """
+
+    box_width: float = ranged(0.36, "box width, side to side [m]", 0.10, 1.00)
+    box_height: float = ranged(0.25, "box height [m]", 0.05, 1.00)
+    box_depth: float = ranged(0.30, "box depth, front to back [m]", 0.05, 1.00)
+    box_mass_kg: float = ranged(6.0, "box mass [kg]", 0.0, 25.0)
+    handle_span: float = ranged(0.40, "distance between the two handle grips [m]", 0.15, 1.10)
+    coupling: int = ranged(0, "REBA coupling of the handles: 0 good ... 3 unacceptable", 0, 3)
+    activity: int = ranged(0, "REBA activity score 0-3", 0, 3)
+    clearance: float = ranged(0.02, "gap kept between the box and the torso [m]", 0.0, 0.20)
+
+    def __post_init__(self):
+        check_ranges(self, TaskSpecError)
+        if self.handle_span < self.box_width:
+            raise TaskSpecError(f"handle_span = {self.handle_span!r} is outside the valid range: "
+                                f"at least box_width = {self.box_width!r}")
+
+    def handles(self, locations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Left and right handle grip points for box centres ``locations`` (N, 3) [m]."""
+        offset = np.array([self.handle_span / 2.0, 0.0, 0.0])
+        return locations - offset, locations + offset  # left is -x in the worker frame
+
+
+@dataclass(frozen=True)
+class Boundary:
+    """An axis-aligned box of candidate locations, in the worker frame [m]."""
+
+    x: tuple[float, float]
+    y: tuple[float, float]
+    z: tuple[float, float]
+    name: str = "explicit"
+
+    def __post_init__(self):
+        for axis in ("x", "y", "z"):
+            lo, hi = getattr(self, axis)
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+                raise TaskSpecError(f"boundary {axis} = {lo:g}..{hi:g} is empty or inverted "
+                                    "(need finite lo < hi)")
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.array([self.x[0], self.y[0], self.z[0]])
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.array([self.x[1], self.y[1], self.z[1]])
+
+    def sample(self, n: int, rng: np.random.Generator) -> np.ndarray:
+        """N uniform random locations inside the boundary, (N, 3)."""
+        return rng.uniform(self.lower, self.upper, size=(n, 3))
+
+    @classmethod
+    def paper_code(cls) -> Boundary:
+        """The published code's numbers: x ±0.20, y 0.72-1.44, z 0.30-0.60 m."""
+        return cls((-0.20, 0.20), (0.72, 1.44), (0.30, 0.60), name="paper-code")
+
+    @classmethod
+    def from_body(cls, body: BodySpec, task: TaskSpec) -> Boundary:
+        """The paper's text: x ± half shoulder width; y knee height to the top of the head;
+        z from where the box first clears the torso to full arm reach."""
+        seg = body.segments()
+        half = seg.shoulder_width / 2.0
+        clear = seg.trunk_depth / 2.0 + task.box_depth / 2.0 + task.clearance
+        reach = seg.upper_arm_length + seg.forearm_length + seg.grip_offset
+        return cls((-half, half), (seg.knee_height, body.stature_m), (clear, reach), name="body")
