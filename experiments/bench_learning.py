@@ -11,7 +11,7 @@ Usage: python experiments/bench_learning.py [--landscape FILE] [--seeds 10] [--t
    landscape's global minimum is seen: the median time and steps to reach it, and how many did.
 
 The landscape: --landscape, else the paper-code landscape of the default worker in
-results/landscapes/ (``ergohandover sweep --boundary paper-code``), else a coarse one (12 mm
+the landscape cache (``ergohandover sweep --boundary paper-code``), else a coarse one (12 mm
 grid, ~10 s) built there. Prints figures; asserts nothing.
 """
 
@@ -26,9 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from ergohandover.envs import HandoverEnv, LandscapeScores, OnlineScores
+from ergohandover.landscape.cache import Landscape, landscape_key, landscape_path
 from ergohandover.landscape.grid import DEFAULT_STEP, Grid
-from ergohandover.landscape.sweep import Landscape, landscape_key, sweep
+from ergohandover.landscape.sweep import sweep
 from ergohandover.learning.qlearning import run_qlearning
+from ergohandover.learning.runner import run_agent
 from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
 from ergohandover.learning.trace import Budget
 from ergohandover.twin.evaluate import Evaluator
@@ -42,18 +44,15 @@ COARSE_STEP = 0.012  # [m]: 34 x 61 x 26 = 54k points, a ~10 s sweep on two core
 def find_landscape(given: Path | None) -> Path:
     if given is not None:
         return given
-    folder = ROOT / "results" / "landscapes"
     full = Grid(Boundary.paper_code(), DEFAULT_STEP)
-    path = folder / landscape_key(Evaluator(), full) / "landscape.npz"
+    path = landscape_path(landscape_key(Evaluator(), full))
     if path.exists():
         return path
     coarse = Grid(Boundary.paper_code(), COARSE_STEP)
-    path = folder / landscape_key(Evaluator(), coarse) / "landscape.npz"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    print(f"no paper-code landscape in {folder}: building a coarse one ({coarse.describe()})",
+    print(f"no paper-code landscape in the cache: building a coarse one ({coarse.describe()})",
           file=sys.stderr)
-    sweep(coarse, Evaluator(), path, workers=2)
-    return path
+    sweep(coarse, Evaluator(), workers=2)
+    return landscape_path(landscape_key(Evaluator(), coarse))
 
 
 def gym_steps_per_s(env: HandoverEnv, steps: int) -> float:
@@ -83,14 +82,10 @@ def online_rates(grid: Grid, steps: int) -> tuple[float, float, int]:
     return cold, warm, scores.evaluations
 
 
-def run_agent(name: str, landscape: Landscape, seed: int, budget: Budget):
-    scores = LandscapeScores(landscape)
-    if name == "dqn":
-        from ergohandover.learning.dqn import run_dqn
-
-        return run_dqn(HandoverEnv(scores, observation="position"), budget, seed)
-    run = {"qlearning": run_qlearning, "random": run_random, "hillclimb": run_hillclimb}[name]
-    return run(HandoverEnv(scores), budget, seed)
+def run_one(name: str, landscape: Landscape, seed: int, budget: Budget):
+    env = HandoverEnv(LandscapeScores(landscape),
+                      observation="position" if name == "dqn" else "indices")
+    return run_agent(name, env, budget, seed)[0]
 
 
 def main() -> None:
@@ -144,7 +139,7 @@ def main() -> None:
         times, steps, rates, reached = [], [], [], 0
         for seed in range(args.seeds):
             budget = Budget(time_cap_s=args.time_cap, stop_score=truth.score)
-            result = run_agent(name, landscape, seed, budget)
+            result = run_one(name, landscape, seed, budget)
             hit = result.best_score <= truth.score
             reached += hit
             t, s = result.first_reached

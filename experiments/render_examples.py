@@ -16,7 +16,7 @@ import numpy as np
 from ergohandover.cli.evaluate import render_points
 from ergohandover.io.atomic import atomic_write_csv
 from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.evaluate import Evaluator, evaluate
+from ergohandover.twin.evaluate import EVALUATION_COLUMNS, Evaluator, evaluate
 from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,10 +41,10 @@ def main() -> None:
     body, task = BodySpec(), TaskSpec()
     named = examples(body)
     points = np.array(list(named.values()))
-    table = evaluate(points, body, task)
+    table = evaluate(points, body, task, joints=True)
     table.insert(0, "name", list(named))
     args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_csv(table, args.out / "twin_examples.csv")
+    atomic_write_csv(table[["name", *EVALUATION_COLUMNS]], args.out / "twin_examples.csv")
     render_points(table, points, Evaluator(body, task), args.out)
     for i, name in enumerate(named, start=1):
         (args.out / f"point_{i:04d}.png").replace(args.out / f"twin_{name}.png")

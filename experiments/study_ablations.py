@@ -9,7 +9,7 @@
 Usage: python experiments/study_ablations.py [--config ...]
 
 Writes results/ablations/: objectives.csv, temperature.csv (one row per run), ik.csv (one row
-per solver and score), ik_landscapes/ (cached), manifest.json.
+per solver and score), manifest.json; both solvers' landscapes go to the landscape cache.
 """
 
 from __future__ import annotations
@@ -21,14 +21,11 @@ import study_landscape
 from study_learning import run_jobs, write_runs
 
 from ergohandover.io.atomic import atomic_write_csv
-from ergohandover.landscape.grid import Grid, parse_boundary
+from ergohandover.landscape.cache import landscape_path
 from ergohandover.landscape.stats import statistics
-from ergohandover.landscape.sweep import Landscape, sweep
 from ergohandover.learning.search import exhaustive
 from ergohandover.study.parts import part_config, run_part, study_main
 from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.evaluate import Evaluator
-from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -36,10 +33,10 @@ ROOT = Path(__file__).resolve().parents[1]
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "ablations")
-    landscape_file = results / "landscape" / "landscape.npz"
 
     def work(folder: Path) -> dict:
-        landscape = Landscape.load(landscape_file)
+        landscape = study_landscape.default_landscape(config, workers)
+        landscape_file = landscape_path(landscape.key)
         truths = {o: exhaustive(landscape, o) for o in part["objectives"]}
         base = {"cap_s": part["cap_s"], "landscape": str(landscape_file), "agent": "qlearning"}
         jobs = [{**base, "objective": o, "temperature": t, "seed": seed,
@@ -49,16 +46,14 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
         runs = write_runs(run_jobs(jobs, workers, "ablations"), folder)
         atomic_write_csv(runs[runs["temperature"] == "fixed"], folder / "objectives.csv")
         atomic_write_csv(runs[runs["objective"] == "paper_postural"], folder / "temperature.csv")
-        body, task = BodySpec(), TaskSpec()
-        grid = Grid(parse_boundary(part["ik_boundary"], body, task), part["ik_step"])
+        ik_grid = {"boundary": part["ik_boundary"], "step": part["ik_step"]}
         rows = []
         for solver in ("numpy", "pybullet"):
-            ik = sweep(grid, Evaluator(body, task, solver),
-                       folder / "ik_landscapes" / f"{solver}.npz", workers=workers)[0]
+            ik = study_landscape.landscape_for(BodySpec(), ik_grid, workers, solver)
             stats = statistics(ik)
             stats.insert(0, "solver", solver)
             stats["unbalanced_fraction"] = ((ik.arrays["flags"] & 4) > 0).mean()
-            stats["grid"] = grid.describe()
+            stats["grid"] = ik.grid.describe()
             rows.append(stats)
         atomic_write_csv(pd.concat(rows, ignore_index=True), folder / "ik.csv")
         return {"runs": len(runs)}

@@ -16,7 +16,6 @@ import study_landscape
 
 from ergohandover.cli.baseline import markdown_table, render
 from ergohandover.io.atomic import atomic_write, atomic_write_csv
-from ergohandover.landscape.sweep import Landscape
 from ergohandover.scene.robot import RobotSpec
 from ergohandover.study.baselines import PAPER_STARTS, compare
 from ergohandover.study.parts import part_config, run_part, study_main
@@ -30,7 +29,7 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     part = part_config(config, "baselines")
 
     def work(folder: Path) -> dict:
-        landscape = Landscape.load(results / "landscape" / "landscape.npz")
+        landscape = study_landscape.default_landscape(config, workers)
         evaluator, robot = Evaluator(), RobotSpec()
         result = compare(PAPER_STARTS, landscape, evaluator, robot)
         atomic_write_csv(result.table, folder / "baselines.csv")

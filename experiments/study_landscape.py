@@ -3,8 +3,9 @@ evaluation of every grid point), its statistics and score distribution.
 
 Usage: python experiments/study_landscape.py [--config experiments/configs/default.json]
 
-Writes results/landscape/: landscape.npz (not committed: 105 MB, rebuilt in ~5 min),
-stats.csv, distribution.csv, manifest.json.
+Writes results/landscape/: stats.csv, distribution.csv, manifest.json (with the landscape's
+key). The landscape itself (105 MB) goes to the landscape cache, shared with every command and
+later part; a part that needs it and finds the cache empty (a fresh clone) sweeps it again.
 """
 
 from __future__ import annotations
@@ -12,9 +13,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.landscape.cache import Landscape, landscape_key, landscape_path
 from ergohandover.landscape.grid import Grid, parse_boundary
 from ergohandover.landscape.stats import distributions, statistics
-from ergohandover.landscape.sweep import Landscape, sweep
+from ergohandover.landscape.sweep import sweep
 from ergohandover.study.parts import part_config, run_part, study_main
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import Evaluator
@@ -23,29 +25,36 @@ from ergohandover.twin.task import TaskSpec
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def landscape_for(body: BodySpec, config: dict, output: Path, workers: int) -> Landscape:
-    """The (cached) landscape of ``body`` on the configured boundary and step."""
+def landscape_for(body: BodySpec, config: dict, workers: int, solver: str = "numpy",
+                  ) -> Landscape:
+    """The landscape of ``body`` on the configured boundary and step, from the landscape cache
+    (swept into it when missing)."""
     task = TaskSpec()
     grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
-    print(f"  {grid.describe()} for {body}")
-    landscape, reused = sweep(grid, Evaluator(body, task), output, workers=workers)
+    evaluator = Evaluator(body, task, solver)
+    print(f"  {grid.describe()} for {body} ({solver} solver)")
+    landscape, reused = sweep(grid, evaluator, workers=workers)
     if reused:
-        print(f"  reused {output}")
+        print(f"  reused {landscape_path(landscape_key(evaluator, grid))}")
     return landscape
+
+
+def default_landscape(config: dict, workers: int) -> Landscape:
+    """The default worker's landscape of the study (the `landscape` part's)."""
+    return landscape_for(BodySpec(), config["landscape"], workers)
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     part = part_config(config, "landscape")
 
     def work(folder: Path) -> dict:
-        landscape = landscape_for(BodySpec(), part, folder / "landscape.npz", workers)
+        landscape = landscape_for(BodySpec(), part, workers)
         atomic_write_csv(statistics(landscape), folder / "stats.csv")
         atomic_write_csv(distributions(landscape), folder / "distribution.csv")
         return {"grid": landscape.grid.describe(), "landscape_key": landscape.key,
                 "sweep_seconds": landscape.meta.get("seconds")}
 
-    run_part("landscape", results / "landscape", part, work, force=force,
-             required_files=("landscape.npz",))
+    run_part("landscape", results / "landscape", part, work, force=force)
 
 
 if __name__ == "__main__":

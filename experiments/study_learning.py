@@ -13,7 +13,6 @@ truth.csv (the landscape's minimum), manifest.json.
 
 from __future__ import annotations
 
-import multiprocessing
 from pathlib import Path
 
 import pandas as pd
@@ -22,11 +21,11 @@ from tqdm import tqdm
 
 from ergohandover.envs.handover_env import HandoverEnv
 from ergohandover.envs.scores import LandscapeScores
+from ergohandover.executor import LocalExecutor
 from ergohandover.io.atomic import atomic_write_csv
-from ergohandover.landscape.sweep import Landscape
-from ergohandover.learning.dqn import run_dqn
-from ergohandover.learning.qlearning import QLearningConfig, run_qlearning
-from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.landscape.cache import Landscape, landscape_path
+from ergohandover.learning.runner import run_agent
+from ergohandover.learning.search import exhaustive
 from ergohandover.learning.trace import Budget
 from ergohandover.study.parts import part_config, run_part, study_main
 
@@ -48,12 +47,8 @@ def one_run(job: dict) -> dict:
     dqn = job["agent"] == "dqn"
     env = HandoverEnv(scores, observation="position" if dqn else "indices")
     budget = Budget(time_cap_s=job["cap_s"], stop_score=job["stop_score"])
-    if job["agent"] == "qlearning":
-        result = run_qlearning(env, budget, job["seed"],
-                               QLearningConfig(temperature=job.get("temperature", "fixed")))
-    else:
-        run = {"dqn": run_dqn, "random": run_random, "hillclimb": run_hillclimb}[job["agent"]]
-        result = run(env, budget, job["seed"])
+    result, _ = run_agent(job["agent"], env, budget, job["seed"],
+                          job.get("temperature", "fixed"))
     first_time, first_step = result.first_reached
     row = {k: v for k, v in job.items() if k not in ("landscape", "stop_score")}
     row.update(best_score=result.best_score, first_reached_s=first_time,
@@ -67,15 +62,9 @@ def run_jobs(jobs: list[dict], workers: int, desc: str) -> list[dict]:
     """Run jobs over ``workers`` processes, in job order; a progress bar on stderr."""
     out = []
     with tqdm(total=len(jobs), desc=desc, unit="run") as bar:
-        if workers > 1:
-            with multiprocessing.get_context("fork").Pool(workers) as pool:
-                for result in pool.imap(one_run, jobs):
-                    out.append(result)
-                    bar.update()
-        else:
-            for job in jobs:
-                out.append(one_run(job))
-                bar.update()
+        for result in LocalExecutor(workers).map(one_run, jobs):
+            out.append(result)
+            bar.update()
     return out
 
 
@@ -95,10 +84,10 @@ def write_runs(done: list[dict], folder: Path) -> pd.DataFrame:
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     study_landscape.run(config, results, workers)  # reused when finished
     part = part_config(config, "learning")
-    landscape_file = results / "landscape" / "landscape.npz"
-
     def work(folder: Path) -> dict:
-        truth = exhaustive(Landscape.load(landscape_file), part["objective"])
+        landscape = study_landscape.default_landscape(config, workers)
+        landscape_file = landscape_path(landscape.key)
+        truth = exhaustive(landscape, part["objective"])
         stop = truth.score if part["stop_at_global_min"] else None
         jobs = [{"agent": agent, "objective": part["objective"], "temperature": "fixed",
                  "cap_s": cap, "seed": seed, "landscape": str(landscape_file),

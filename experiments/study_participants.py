@@ -7,8 +7,8 @@ for itself, and at the shortest-distance locations from the VR study's two start
 Usage: python experiments/study_participants.py [--config ...]
 
 Writes results/participants/: participants.csv, manifest.json. The default worker's landscape
-comes from the `landscape` part (results/landscape/landscape.npz); the others are swept at the
-configured (coarser) step, cached in results/participants/landscapes/.
+is the `landscape` part's; the others are swept at the configured (coarser) step. All come from
+the landscape cache.
 """
 
 from __future__ import annotations
@@ -31,14 +31,11 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     part = part_config(config, "participants")
 
     def work(folder: Path) -> dict:
-        landscapes = {DEFAULT_WORKER: landscape_for(
-            BodySpec(), config["landscape"], results / "landscape" / "landscape.npz", workers)}
+        landscapes = {DEFAULT_WORKER: study_landscape.default_landscape(config, workers)}
         own = {"boundary": config["landscape"]["boundary"], "step": part["step"]}
         for name in part["workers"]:
             if name != DEFAULT_WORKER:
-                landscapes[name] = landscape_for(
-                    BodySpec.from_percentile(name), own,
-                    folder / "landscapes" / f"{name}.npz", workers)
+                landscapes[name] = landscape_for(BodySpec.from_percentile(name), own, workers)
         table = participant_study(landscapes)
         atomic_write_csv(table, folder / "participants.csv")
         return {"workers": list(landscapes)}

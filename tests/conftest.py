@@ -1,6 +1,9 @@
-"""Shared fixtures: a neutral posture to perturb one column at a time."""
+"""Shared fixtures: a landscape cache of the test session's own, and a neutral posture to
+perturb one column at a time."""
 
 from __future__ import annotations
+
+import os
 
 import numpy as np
 import pytest
@@ -20,3 +23,17 @@ def neutral_columns(**overrides: float) -> dict[str, np.ndarray]:
 def neutral():
     """Factory: ``neutral(trunk_flexion=30)`` -> a one-row Posture."""
     return lambda **overrides: Posture(neutral_columns(**overrides))
+
+
+@pytest.fixture(autouse=True, scope="session")
+def landscape_cache(tmp_path_factory):
+    """Every landscape the tests sweep (in-process or in a subprocess) goes to a cache of the
+    session's own: nothing is read from, or left in, the user's cache."""
+    path = tmp_path_factory.mktemp("landscape_cache")
+    before = os.environ.get("ERGOHANDOVER_CACHE")
+    os.environ["ERGOHANDOVER_CACHE"] = str(path)
+    yield path
+    if before is None:
+        del os.environ["ERGOHANDOVER_CACHE"]
+    else:
+        os.environ["ERGOHANDOVER_CACHE"] = before

@@ -102,8 +102,10 @@ def rula(p: dict, s) -> dict:
         return int(not within(abs(x), limit))
 
     kg = p["load_kg"]
-    if kg > 10 or p["shock"] == 1:
+    if p["shock"] == 1:
         force = 3
+    elif kg > 10:
+        force = 2 + int(p["muscle_use"])
     elif kg >= 2:
         force = 1 + int(p["muscle_use"])
     else:

@@ -115,11 +115,22 @@ def test_band_edge(item, columns, edge, below, above):
 
 @pytest.mark.parametrize(("kg", "shock", "reba_load", "rula_force"), [
     (0.0, 0, 0, 0), (1.999, 0, 0, 0), (2.0, 0, 0, 1), (4.999, 0, 0, 1), (5.0, 0, 1, 1),
-    (10.0, 0, 1, 1), (10.001, 0, 2, 3), (0.0, 1, 1, 3), (12.0, 1, 3, 3),
+    (10.0, 0, 1, 1), (10.001, 0, 2, 2), (0.0, 1, 1, 3), (12.0, 1, 3, 3),
 ])
 def test_load_bands_are_read_literally(kg, shock, reba_load, rula_force):
     scores = score_postures(Posture(neutral_columns(load_kg=kg, shock=shock)))
     assert (scores["reba_load"][0], scores["rula_force"][0]) == (reba_load, rula_force)
+
+
+@pytest.mark.parametrize(("kg", "muscle_use", "rula_force"), [
+    (1.0, 1, 0), (2.0, 1, 2), (10.0, 1, 2), (10.001, 0, 2), (10.001, 1, 3), (25.0, 0, 2),
+    (25.0, 1, 3),
+])
+def test_rula_force_for_static_or_repeated_and_intermittent_loads(kg, muscle_use, rula_force):
+    """McAtamney & Corlett 1993: >= 10 kg intermittent is 2; 3 only when static or repeated
+    (or with shock)."""
+    scores = score_postures(Posture(neutral_columns(load_kg=kg, muscle_use=muscle_use)))
+    assert scores["rula_force"][0] == rula_force
 
 
 def test_rula_static_load_scores_two():

@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from ergohandover import cli
-from ergohandover.cli import baseline
+from ergohandover.cli import main
+from ergohandover.landscape.cache import landscape_path
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimisers
 from ergohandover.landscape.sweep import sweep
@@ -78,10 +78,9 @@ def test_the_paper_starts_clip_to_the_paper_code_boundary():
 
 
 @pytest.fixture(scope="module")
-def tiny_landscape(tmp_path_factory):
-    path = tmp_path_factory.mktemp("landscape") / "l.npz"
-    landscape, _ = sweep(Grid(TINY, 0.05), Evaluator(), path, progress=False)
-    return landscape, path
+def tiny_landscape():
+    landscape, _ = sweep(Grid(TINY, 0.05), Evaluator(), progress=False)
+    return landscape, landscape_path(landscape.key)
 
 
 def test_optimised_is_a_most_symmetric_minimiser_of_the_score(tiny_landscape):
@@ -95,16 +94,8 @@ def test_optimised_is_a_most_symmetric_minimiser_of_the_score(tiny_landscape):
         optimised(landscape, "nonsense")
 
 
-@pytest.fixture
-def main(monkeypatch):
-    """``ergohandover.cli.main`` with the baseline command registered (until cli.py has it)."""
-    if baseline not in cli.COMMANDS:
-        monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, baseline))
-    return cli.main
-
-
 @pytest.mark.parametrize("text", ["1,2", "1,2,3,4", "a,b,c", "nan,1,1", "1,inf,1", "", "1;2;3"])
-def test_bad_start_strings_exit_2_with_one_line(main, capsys, tmp_path, text):
+def test_bad_start_strings_exit_2_with_one_line(capsys, tmp_path, text):
     out = tmp_path / "b.csv"
     assert main(["baseline", f"--start={text}", "--output", str(out)]) == 2
     err = capsys.readouterr().err
@@ -113,7 +104,7 @@ def test_bad_start_strings_exit_2_with_one_line(main, capsys, tmp_path, text):
     assert not out.exists()
 
 
-def test_a_landscape_for_another_worker_is_refused(main, capsys, tiny_landscape, tmp_path):
+def test_a_landscape_for_another_worker_is_refused(capsys, tiny_landscape, tmp_path):
     _, path = tiny_landscape
     out = tmp_path / "b.csv"
     code = main(["baseline", "--landscape", str(path), "--percentile", "p5-female",
@@ -124,7 +115,7 @@ def test_a_landscape_for_another_worker_is_refused(main, capsys, tiny_landscape,
     assert not out.exists()
 
 
-def test_baseline_writes_csv_markdown_manifest_and_pictures(main, capsys, tiny_landscape,
+def test_baseline_writes_csv_markdown_manifest_and_pictures(capsys, tiny_landscape,
                                                             tmp_path):
     landscape, path = tiny_landscape
     out, pictures = tmp_path / "b.csv", tmp_path / "img"
@@ -152,3 +143,14 @@ def test_baseline_writes_csv_markdown_manifest_and_pictures(main, capsys, tiny_l
                      "start1_shortest_distance.png"]
     gif = Image.open(pictures / "carry.gif")
     assert gif.n_frames > 3 and (pictures / "carry.gif").stat().st_size < 3_000_000
+
+
+def test_a_negative_start_is_taken_as_typed(capsys, tiny_landscape, tmp_path):
+    _, path = tiny_landscape
+    out = tmp_path / "b.csv"
+    # The paper's start 3 has a negative x: "--start -0.3,..." must not read as an option.
+    assert main(["baseline", "--landscape", str(path), "--start", "-0.3,1.1,0.6",
+                 "--output", str(out)]) == 0
+    table = pd.read_csv(out)
+    assert table[["start_x", "start_y", "start_z"]].iloc[0].tolist() == [-0.3, 1.1, 0.6]
+    assert table["x"].iloc[1] == pytest.approx(TINY.x[0])  # the nearest boundary point

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import io
 import subprocess
 import sys
 
+import numpy as np
 import pandas as pd
 import pytest
 from PIL import Image
@@ -35,14 +37,33 @@ def test_evaluates_points_and_renders_one_png_each(tmp_path):
     assert len(image.convert("RGB").getcolors(maxcolors=1 << 20)) > 50
 
 
-def test_stdout_is_pure_csv_and_body_flags_change_the_worker():
+def evaluate_stdout(*flags: str) -> pd.DataFrame:
     result = subprocess.run(
         [sys.executable, "-m", "ergohandover.cli", "evaluate", "--points", "-", "--output", "-",
-         "--percentile", "p5-female", "--solver", "pybullet"],
-        input="x,y,z\n0,1.0,0.35\n", capture_output=True, text=True, timeout=300)
+         *flags], input="x,y,z\n0,1.0,0.35\n0,1.3,0.40\n", capture_output=True, text=True,
+        timeout=300)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
-    assert lines[0].startswith("x,y,z,feasible") and len(lines) == 2
+    assert lines[0].startswith("x,y,z,feasible") and len(lines) == 3  # nothing but the CSV
+    return pd.read_csv(io.StringIO(result.stdout))
+
+
+def test_stdout_is_pure_csv_and_body_flags_change_the_posture():
+    default = evaluate_stdout()
+    small = evaluate_stdout("--percentile", "p5-female")
+    tall = evaluate_stdout("--stature", "1.95", "--mass", "95", "--sex", "male")
+    # The same box locations are reached differently by workers of other sizes: a shorter
+    # worker bends less to a low box and raises the arms more to a high one.
+    for column in ("trunk_flexion", "left_upper_arm_flexion", "left_elbow_flexion"):
+        assert not np.allclose(default[column], small[column], atol=0.5), column
+        assert not np.allclose(default[column], tall[column], atol=0.5), column
+    assert small["trunk_flexion"].iloc[0] < default["trunk_flexion"].iloc[0] \
+        < tall["trunk_flexion"].iloc[0]
+
+
+def test_the_pybullet_solver_flag_changes_the_solver():
+    ours, theirs = evaluate_stdout(), evaluate_stdout("--solver", "pybullet")
+    assert not np.allclose(ours["neck_flexion"], theirs["neck_flexion"], atol=0.5)
 
 
 @pytest.mark.parametrize(("content", "args", "message"), [

@@ -10,6 +10,7 @@ import sys
 import gymnasium
 import numpy as np
 import pytest
+from synthetic import CENTRE, INFEASIBLE, bowl_env, bowl_landscape, flat
 
 from ergohandover.envs import (
     ENV_ID,
@@ -21,36 +22,9 @@ from ergohandover.envs import (
 )
 from ergohandover.envs.handover_env import INFEASIBLE_REWARD, symmetry_term
 from ergohandover.landscape.grid import Grid
-from ergohandover.landscape.sweep import Landscape, sweep
+from ergohandover.landscape.sweep import sweep
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
-
-BOWL = Boundary((-0.09, 0.09), (1.00, 1.18), (0.30, 0.48))  # 7 x 7 x 7 cells every 3 cm
-CENTRE = (3, 3, 3)
-INFEASIBLE = (6, 6, 6)
-
-
-def bowl_landscape(infeasible=(INFEASIBLE,)) -> Landscape:
-    """A 7x7x7 synthetic landscape: score 5 + the rounded distance [cells] to the centre
-    (a unique minimum 5 at (3, 3, 3), x = 0), with ``infeasible`` cells flagged."""
-    grid = Grid(BOWL, 0.03)
-    i, j, k = np.indices(grid.shape).reshape(3, -1)
-    score = (5 + np.rint(np.sqrt((i - 3) ** 2 + (j - 3) ** 2 + (k - 3) ** 2))).astype(np.int8)
-    flags = np.zeros(grid.size, dtype=np.uint8)
-    for cell in infeasible:
-        flags[np.ravel_multi_index(cell, grid.shape)] = 4  # "unbalanced"
-    arrays = {"flags": flags}
-    for name in ("paper_postural", "reba", "reba_ab", "rula"):
-        arrays[name] = np.where(flags == 0, score, -1).astype(np.int8)
-    return Landscape(grid, "bowl", arrays, {})
-
-
-def bowl_env(**kwargs) -> HandoverEnv:
-    return HandoverEnv(LandscapeScores(bowl_landscape()), **kwargs)
-
-
-def flat(cell) -> int:
-    return int(np.ravel_multi_index(cell, (7, 7, 7)))
 
 
 @pytest.mark.parametrize("observation", ["indices", "position"])
@@ -176,9 +150,8 @@ SMALL = Boundary((-0.10, 0.10), (0.90, 1.20), (0.15, 0.75))  # 5 x 7 x 13, 17% i
 
 
 @pytest.fixture(scope="module")
-def small_landscape(tmp_path_factory):
-    path = tmp_path_factory.mktemp("landscape") / "small.npz"
-    return sweep(Grid(SMALL, 0.05), Evaluator(), path, progress=False)[0]
+def small_landscape():
+    return sweep(Grid(SMALL, 0.05), Evaluator(), progress=False)[0]
 
 
 @pytest.mark.parametrize("objective", ["paper_postural", "reba", "reba_ab", "rula"])

@@ -2,21 +2,27 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import textwrap
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from ergohandover.cli import main
-from ergohandover.landscape import sweep as landscape_module
+from ergohandover.ergonomics import ScoringSettings
+from ergohandover.landscape import cache as cache_module
+from ergohandover.landscape import sweep as sweep_module
+from ergohandover.landscape.cache import landscape_key, landscape_path
 from ergohandover.landscape.grid import Grid, parse_boundary
 from ergohandover.landscape.stats import most_symmetric, statistics
 from ergohandover.landscape.sweep import Landscape, LandscapeError, sweep
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import REASONS, Evaluator, evaluate
+from ergohandover.twin.solver import SolverSettings
 from ergohandover.twin.task import Boundary, TaskSpec, TaskSpecError
 
 SMALL = Boundary((-0.10, 0.10), (1.00, 1.20), (0.35, 0.50))
@@ -62,10 +68,25 @@ def test_the_body_boundary_follows_the_worker():
     assert a.x[1] < b.x[1] and a.z[1] < b.z[1]
 
 
-def test_the_landscape_holds_what_evaluate_says(tmp_path):
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    """A landscape cache of this test's own."""
+    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+def fresh_sweep(grid, tmp_path, monkeypatch, **kwargs):
+    """The same grid swept from nothing, in a second, empty cache."""
+    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "fresh_cache"))
+    return sweep(grid, Evaluator(), progress=False, **kwargs)[0]
+
+
+def test_the_landscape_holds_what_evaluate_says(cache):
     grid = Grid(SMALL, 0.05)
-    landscape, reused = sweep(grid, Evaluator(), tmp_path / "l.npz", progress=False)
+    landscape, reused = sweep(grid, Evaluator(), progress=False)
     assert not reused and landscape.grid == grid
+    assert landscape_path(landscape.key) == cache / "landscapes" / f"{landscape.key}.npz"
+    assert landscape_path(landscape.key).exists()
     rows = evaluate(grid.points())
     feasible = rows["feasible"].to_numpy() == 1
     np.testing.assert_array_equal(landscape.feasible, feasible)
@@ -79,27 +100,53 @@ def test_the_landscape_holds_what_evaluate_says(tmp_path):
         np.testing.assert_array_equal((landscape.arrays["flags"] >> bit) & 1, has)
 
 
-def test_a_matching_file_is_reused_and_a_mismatched_one_recomputed(tmp_path):
-    out = tmp_path / "l.npz"
+def test_a_matching_file_is_reused_and_other_settings_get_their_own(cache):
     grid = Grid(SMALL, 0.05)
-    first, _ = sweep(grid, Evaluator(), out, progress=False)
-    again, reused = sweep(grid, Evaluator(), out, progress=False)
+    first, _ = sweep(grid, Evaluator(), progress=False)
+    again, reused = sweep(grid, Evaluator(), progress=False)
     assert reused and again.key == first.key
-    other, reused = sweep(grid, Evaluator(body=BodySpec.from_percentile("p95-male")), out,
+    other, reused = sweep(grid, Evaluator(body=BodySpec.from_percentile("p95-male")),
                           progress=False)
     assert not reused and other.key != first.key
-    assert Landscape.load(out).key == other.key
+    assert Landscape.load(landscape_path(other.key)).key == other.key
+    assert Landscape.load(landscape_path(first.key)).key == first.key
+    # Every setting that changes a landscape changes its key.
+    for changed in (Evaluator(task=TaskSpec(box_mass_kg=8.0)), Evaluator(solver="pybullet"),
+                    Evaluator(settings=SolverSettings(gaze=2.0)),
+                    Evaluator(scoring=ScoringSettings(neutral_tolerance_deg=10.0))):
+        assert landscape_key(changed, grid) != first.key
+    assert landscape_key(Evaluator(), Grid(SMALL, 0.04)) != first.key
 
 
-def test_a_corrupted_file_is_detected_and_recomputed(tmp_path):
-    out = tmp_path / "l.npz"
+def test_the_key_follows_the_model_source_code(tmp_path, monkeypatch):
+    package = tmp_path / "package"
+    for name in cache_module.MODEL_SOURCES:
+        if name.endswith(".py"):
+            (package / name).parent.mkdir(parents=True, exist_ok=True)
+            (package / name).write_text("# a module\n")
+        else:
+            (package / name).mkdir(parents=True)
+    (package / "twin" / "solver.py").write_text("WEIGHT = 1.0\n")
+    monkeypatch.setattr(cache_module, "PACKAGE", package)
+    cache_module.twin_code_version.cache_clear()
+    try:
+        before = landscape_key(Evaluator(), Grid(SMALL, 0.05))
+        (package / "twin" / "solver.py").write_text("WEIGHT = 2.0\n")
+        cache_module.twin_code_version.cache_clear()
+        assert landscape_key(Evaluator(), Grid(SMALL, 0.05)) != before
+    finally:
+        cache_module.twin_code_version.cache_clear()
+
+
+def test_a_corrupted_file_is_detected_and_recomputed(cache):
     grid = Grid(SMALL, 0.05)
-    good, _ = sweep(grid, Evaluator(), out, progress=False)
+    good, _ = sweep(grid, Evaluator(), progress=False)
+    out = landscape_path(good.key)
     # A file cut short (a copy interrupted, a full disk) cannot be read.
     out.write_bytes(out.read_bytes()[: out.stat().st_size // 2])
     with pytest.raises(LandscapeError, match="not a readable landscape"):
         Landscape.load(out, good.key)
-    again, reused = sweep(grid, Evaluator(), out, progress=False)
+    again, reused = sweep(grid, Evaluator(), progress=False)
     assert not reused
     np.testing.assert_array_equal(again.arrays["reba"], good.arrays["reba"])
     # A well-formed file whose numbers were changed fails its checksum.
@@ -110,62 +157,64 @@ def test_a_corrupted_file_is_detected_and_recomputed(tmp_path):
     np.savez_compressed(out, **arrays)
     with pytest.raises(LandscapeError, match="checksum"):
         Landscape.load(out, good.key)
-    assert not sweep(grid, Evaluator(), out, progress=False)[1]
+    assert not sweep(grid, Evaluator(), progress=False)[1]
 
 
-def test_an_interrupted_sweep_resumes_without_redoing_parts(tmp_path, monkeypatch):
-    monkeypatch.setattr(landscape_module, "PART", 20)
+def test_an_interrupted_sweep_resumes_without_redoing_parts(cache, tmp_path, monkeypatch):
+    monkeypatch.setattr(sweep_module, "PART", 20)
     grid = Grid(SMALL, 0.05)
-    out = tmp_path / "l.npz"
-    partial, _ = sweep(grid, Evaluator(), out, progress=False, stop_after_parts=2)
+    out = landscape_path(landscape_key(Evaluator(), grid))
+    partial, _ = sweep(grid, Evaluator(), progress=False, stop_after_parts=2)
     assert partial is None and not out.exists()
-    assert len(list((tmp_path / "l.npz.parts").glob("part_*.npz"))) == 2
-    resumed, _ = sweep(grid, Evaluator(), out, progress=False)
+    parts = out.with_name(out.name + ".parts")
+    assert len(list(parts.glob("part_*.npz"))) == 2
+    resumed, _ = sweep(grid, Evaluator(), progress=False)
     assert resumed.meta["points_computed"] == grid.size - 40
-    fresh, _ = sweep(grid, Evaluator(), tmp_path / "fresh.npz", progress=False)
+    assert not parts.exists()
+    fresh = fresh_sweep(grid, tmp_path, monkeypatch)
+    assert fresh.meta["points_computed"] == grid.size
     for name in fresh.arrays:
         np.testing.assert_array_equal(resumed.arrays[name], fresh.arrays[name], err_msg=name)
-    assert not (tmp_path / "l.npz.parts").exists()
 
 
-def test_kill_9_mid_sweep_then_rerun_gives_the_same_file(tmp_path, monkeypatch):
-    monkeypatch.setattr(landscape_module, "PART", 500)
-    out = tmp_path / "l.npz"
+@pytest.mark.slow
+def test_kill_9_mid_sweep_then_rerun_gives_the_same_file(cache, tmp_path, monkeypatch):
+    monkeypatch.setattr(sweep_module, "PART", 500)
+    grid = Grid(SMALL, 0.01)
+    out = landscape_path(landscape_key(Evaluator(), grid))
     script = textwrap.dedent(f"""
-        from pathlib import Path
-        from ergohandover.landscape import sweep as landscape
+        from ergohandover.landscape import sweep as sweep_module
         from ergohandover.twin.evaluate import Evaluator
         from ergohandover.landscape.grid import Grid
         from ergohandover.twin.task import Boundary
-        landscape.PART = 500
-        grid = Grid(Boundary((-0.10, 0.10), (1.0, 1.2), (0.35, 0.5)), 0.01)
-        landscape.sweep(grid, Evaluator(), Path({str(out)!r}), workers=2, progress=False)
+        sweep_module.PART = 500
+        grid = Grid(Boundary({SMALL.x}, {SMALL.y}, {SMALL.z}), 0.01)
+        sweep_module.sweep(grid, Evaluator(), workers=2, progress=False)
     """)
-    proc = subprocess.Popen([sys.executable, "-c", script])
-    parts = tmp_path / "l.npz.parts"
+    proc = subprocess.Popen([sys.executable, "-c", script])  # inherits the test's cache
+    parts = out.with_name(out.name + ".parts")
     deadline = time.time() + 120
     while len(list(parts.glob("part_*.npz"))) < 2 and time.time() < deadline:
         time.sleep(0.05)
     proc.kill()  # SIGKILL: no clean-up runs
     proc.wait()
     assert not out.exists() and len(list(parts.glob("part_*.npz"))) >= 2
-    grid = Grid(SMALL, 0.01)
-    resumed, _ = sweep(grid, Evaluator(), out, progress=False)
+    resumed, _ = sweep(grid, Evaluator(), progress=False)
     assert resumed.meta["points_computed"] < grid.size
-    fresh, _ = sweep(grid, Evaluator(), tmp_path / "fresh.npz", progress=False)
+    fresh = fresh_sweep(grid, tmp_path, monkeypatch)
     for name in fresh.arrays:
         np.testing.assert_array_equal(resumed.arrays[name], fresh.arrays[name], err_msg=name)
 
 
-def test_a_boundary_with_no_feasible_point_is_an_error(tmp_path):
-    inside_the_chest = Boundary((-0.05, 0.05), (1.2, 1.3), (0.0, 0.08))
+def test_a_boundary_with_no_feasible_point_is_an_error(cache):
+    inside_the_chest = Grid(Boundary((-0.05, 0.05), (1.2, 1.3), (0.0, 0.08)), 0.04)
     with pytest.raises(LandscapeError, match="no feasible point"):
-        sweep(Grid(inside_the_chest, 0.04), Evaluator(), tmp_path / "l.npz", progress=False)
-    assert not (tmp_path / "l.npz").exists()
+        sweep(inside_the_chest, Evaluator(), progress=False)
+    assert not landscape_path(landscape_key(Evaluator(), inside_the_chest)).exists()
 
 
-def test_statistics_find_the_minimum_and_the_most_symmetric_minimiser(tmp_path):
-    landscape, _ = sweep(Grid(SMALL, 0.05), Evaluator(), tmp_path / "l.npz", progress=False)
+def test_statistics_find_the_minimum_and_the_most_symmetric_minimiser(cache):
+    landscape, _ = sweep(Grid(SMALL, 0.05), Evaluator(), progress=False)
     stats = statistics(landscape).set_index("score")
     for score in ("paper_postural", "reba", "rula"):
         values = landscape.arrays[score][landscape.feasible]
@@ -176,16 +225,24 @@ def test_statistics_find_the_minimum_and_the_most_symmetric_minimiser(tmp_path):
     assert most_symmetric(points) == 2
 
 
-def test_sweep_and_stats_commands(tmp_path, capsys):
-    out = tmp_path / "l.npz"
-    args = ["sweep", "--boundary=-0.1,0.1,1.0,1.2,0.35,0.5", "--step", "0.05", "--output",
+def test_sweep_and_stats_commands(cache, tmp_path, capsys):
+    out = tmp_path / "stats"
+    args = ["sweep", "--boundary", "-0.1,0.1,1.0,1.2,0.35,0.5", "--step", "0.05", "--output",
             str(out), "--workers", "1"]
     assert main(args) == 0
     for suffix in ("_stats.csv", "_distribution.csv", "_distribution.png"):
-        assert (tmp_path / f"l{suffix}").exists()
-    assert (tmp_path / "manifest.json").exists()
-    assert main(["landscape-stats", str(out)]) == 0
+        assert (out / f"landscape{suffix}").exists()
+    manifest = json.loads((out / "manifest.json").read_text())
+    landscape = Path(manifest["landscape"])
+    assert landscape.parent == cache / "landscapes" and landscape.exists()
+    capsys.readouterr()
+    # landscape-stats reads only, unless --output is given.
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    assert main(["landscape-stats", str(landscape)]) == 0
     assert "paper_postural" in capsys.readouterr().out
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before
+    assert main(["landscape-stats", str(landscape), "--output", str(tmp_path / "s")]) == 0
+    assert (tmp_path / "s" / "landscape_stats.csv").exists()
     assert main(args) == 0
     assert "reusing" in capsys.readouterr().err
 
@@ -197,9 +254,10 @@ def test_sweep_and_stats_commands(tmp_path, capsys):
 ])
 def test_bad_sweep_arguments_exit_2(tmp_path, args, message):
     result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "sweep", "--output",
-                             str(tmp_path / "l.npz"), *args], capture_output=True, text=True)
+                             str(tmp_path / "out"), *args], capture_output=True, text=True)
     assert result.returncode == 2 and message in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
 
 
 def test_stats_of_a_corrupted_file_exit_2(tmp_path):

@@ -10,20 +10,11 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from test_handover_env import bowl_landscape
+from synthetic import bowl_landscape
 
-from ergohandover import cli
-from ergohandover.cli import train
+from ergohandover.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture
-def main(monkeypatch):
-    """The real ``cli.main`` with ``train`` registered (until cli.py lists it itself)."""
-    if train not in cli.COMMANDS:
-        monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, train))
-    return cli.main
 
 
 @pytest.fixture
@@ -31,7 +22,7 @@ def bowl_file(tmp_path) -> Path:
     return bowl_landscape().save(tmp_path / "bowl.npz")
 
 
-def test_train_on_a_landscape_writes_results_and_reports_the_minimum(main, bowl_file, tmp_path,
+def test_train_on_a_landscape_writes_results_and_reports_the_minimum(bowl_file, tmp_path,
                                                                      capsys):
     out = tmp_path / "run"
     assert main(["train", "--agent", "qlearning", "--steps", "20000", "--seed", "3",
@@ -50,23 +41,36 @@ def test_train_on_a_landscape_writes_results_and_reports_the_minimum(main, bowl_
 
 
 @pytest.mark.parametrize("agent", ["random", "hillclimb"])
-def test_baselines_run_through_the_same_command(main, bowl_file, tmp_path, agent):
+def test_baselines_run_through_the_same_command(bowl_file, tmp_path, agent):
     out = tmp_path / agent
     assert main(["train", "--agent", agent, "--steps", "3000", "--landscape", str(bowl_file),
                  "--output", str(out), "--target", "5"]) == 0
     assert pd.read_csv(out / "trace.csv")["best_score"].min() == 5
 
 
-def test_train_online_on_a_small_grid(main, tmp_path, capsys):
-    out = tmp_path / "online"
-    assert main(["train", "--agent", "hillclimb", "--steps", "60",
-                 "--boundary=-0.10,0.10,1.0,1.2,0.35,0.5", "--step", "0.05", "--output",
-                 str(out)]) == 0
+def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, capsys,
+                                                                       monkeypatch):
+    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))  # empty
+    args = ["train", "--agent", "hillclimb", "--steps", "60", "--boundary",
+            "-0.10,0.10,1.0,1.2,0.35,0.5", "--step", "0.05", "--output"]
+    assert main([*args, str(tmp_path / "online")]) == 0
     stdout = capsys.readouterr().out
     assert "hillclimb seed 0: best paper_postural" in stdout and "landscape" not in stdout
-    manifest = json.loads((out / "manifest.json").read_text())
-    assert manifest["config"]["boundary"].startswith("-0.10") and manifest["summary"]["steps"] == 60
-    assert "evaluator" in manifest["config"]
+    online = json.loads((tmp_path / "online" / "manifest.json").read_text())
+    assert online["config"]["boundary"].startswith("-0.10")
+    assert online["summary"]["steps"] == 60 and "evaluator" in online["config"]
+    # Once the grid is swept, the same command reads the landscape cache: same numbers.
+    assert main(["sweep", "--boundary", "-0.10,0.10,1.0,1.2,0.35,0.5", "--step", "0.05",
+                 "--output", str(tmp_path / "sweep"), "--workers", "1"]) == 0
+    capsys.readouterr()
+    assert main([*args, str(tmp_path / "cached")]) == 0
+    assert "landscape minimum paper_postural" in capsys.readouterr().out
+    cached = json.loads((tmp_path / "cached" / "manifest.json").read_text())
+    assert cached["config"]["landscape"].startswith(str(tmp_path / "cache"))
+    for name in ("trace.csv", "best_locations.csv"):
+        a, b = (pd.read_csv(tmp_path / run / name) for run in ("online", "cached"))
+        pd.testing.assert_frame_equal(a.drop(columns="time_s", errors="ignore"),
+                                      b.drop(columns="time_s", errors="ignore"))
 
 
 @pytest.mark.parametrize(("args", "message"), [
@@ -86,7 +90,7 @@ def test_train_online_on_a_small_grid(main, tmp_path, capsys):
     (["--agent", "qlearning", "--steps", "5", "--landscape", "CORRUPT"],
      "is not a readable landscape"),
 ])
-def test_bad_arguments_exit_2_with_one_line_and_write_nothing(main, bowl_file, tmp_path, capsys,
+def test_bad_arguments_exit_2_with_one_line_and_write_nothing(bowl_file, tmp_path, capsys,
                                                               args, message):
     corrupt = tmp_path / "corrupt.npz"
     corrupt.write_bytes(bowl_file.read_bytes()[:200])
@@ -99,7 +103,7 @@ def test_bad_arguments_exit_2_with_one_line_and_write_nothing(main, bowl_file, t
     assert err.count("\n") == 1 and not out.exists()
 
 
-def test_an_output_that_is_a_file_is_refused_before_the_run(main, bowl_file, capsys):
+def test_an_output_that_is_a_file_is_refused_before_the_run(bowl_file, capsys):
     assert main(["train", "--agent", "random", "--steps", "5", "--landscape", str(bowl_file),
                  "--output", str(bowl_file)]) == 2
     assert f"output = '{bowl_file}' is a file" in capsys.readouterr().err

@@ -30,7 +30,7 @@ def read(relative: str) -> pd.DataFrame:
 
 def save(fig, name: str) -> Path:
     """Write a figure into paper_figs/ atomically and close it."""
-    FIGURES.mkdir(exist_ok=True)
+    FIGURES.mkdir(parents=True, exist_ok=True)
     try:
         path = atomic_write(FIGURES / name, lambda h: fig.savefig(
             h, format="png", dpi=130, bbox_inches="tight"), binary=True)

@@ -35,7 +35,7 @@ def main() -> None:
     save(fig, "baselines_boxplot.png")
     sheet = RESULTS / "baselines" / "renders" / "baseline_sheet.png"
     if sheet.exists():
-        FIGURES.mkdir(exist_ok=True)
+        FIGURES.mkdir(parents=True, exist_ok=True)
         data = sheet.read_bytes()
         path = atomic_write(FIGURES / "baselines_renders.png", lambda h: h.write(data),
                             binary=True)

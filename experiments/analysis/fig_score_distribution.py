@@ -13,7 +13,7 @@ def main() -> None:
     row = stats.iloc[0]
     title = (f"{int(row['points']):,} grid points, N = {int(row['feasible']):,} feasible "
              f"({row['feasible_fraction']:.1%}); default worker and box")
-    FIGURES.mkdir(exist_ok=True)
+    FIGURES.mkdir(parents=True, exist_ok=True)
     path = plot_distributions(dist, title, FIGURES / "score_distribution.png")
     print(f"wrote {path}")
 

@@ -6,20 +6,16 @@ import argparse
 import sys
 
 from .. import __version__
-from ..ergonomics import PostureError, SettingsError
-from ..io.atomic import OutputError
-from ..io.csv_input import InputError
-from ..landscape.sweep import LandscapeError
-from ..twin.anthropometry import BodySpecError
-from ..twin.evaluate import EvaluationError
-from ..twin.task import TaskSpecError
+from ..errors import ErgohandoverError
 from . import baseline, evaluate, score, sweep, train
+from .options import join_negative_values
 
 COMMANDS = (score, evaluate, sweep, baseline, train)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
-USER_ERRORS = (InputError, PostureError, SettingsError, BodySpecError, TaskSpecError,
-               EvaluationError, LandscapeError, OutputError, FileNotFoundError, IsADirectoryError,
-               PermissionError, UnicodeDecodeError)
+# Every error of the package derives from ErgohandoverError; the others are the file
+# system's answers about paths the user named.
+USER_ERRORS = (ErgohandoverError, FileNotFoundError, IsADirectoryError, NotADirectoryError,
+               PermissionError, FileExistsError, UnicodeDecodeError)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -36,7 +32,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = build_parser().parse_args(join_negative_values(argv))
     try:
         return args.run(args)
     except USER_ERRORS as exc:

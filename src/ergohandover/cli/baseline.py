@@ -15,19 +15,19 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..executor import check_workers
 from ..io.atomic import atomic_write, atomic_write_csv
 from ..io.csv_input import InputError
+from ..io.manifest import write_manifest
+from ..landscape.cache import Landscape, landscape_key, landscape_path
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
-from ..landscape.sweep import Landscape, landscape_key, sweep
+from ..landscape.sweep import sweep
 from ..scene.robot import RobotSpec, RobotSpecError
 from ..study.baselines import PAPER_STARTS, compare
-from ..study.manifest import write_manifest
 from ..twin.evaluate import Evaluator
 from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args
+from .options import add_body_arguments, body_from_args, run_folder
 
-DEFAULT_OUTPUT = Path("results") / "baselines" / "baselines.csv"
-LANDSCAPES = Path("results") / "landscapes"
 START = "three finite numbers X,Y,Z in metres, worker frame"
 ROBOT_FLAGS = {"distance": "robot-distance", "arm_spacing": "robot-spacing",
                "mount_height": "robot-height"}
@@ -38,7 +38,9 @@ landscape's optimised location (lowest paper postural score, the most symmetric 
 with the paper's naive one (the boundary point nearest the start). At each location: the
 twin's paper postural score, REBA and RULA, and whether the dual-arm robot can carry the box
 there in a straight line and hold it for the handover. Writes a CSV, a markdown table beside
-the paper's numbers and manifest.json (into --output's folder) and prints the table."""
+the paper's numbers and manifest.json (into --output's folder; default a new
+runs/baseline/<timestamp>/) and prints the table. The landscape comes from the landscape cache
+(swept into it when missing) unless --landscape names a file."""
 
 
 def add_parser(subparsers) -> None:
@@ -46,20 +48,19 @@ def add_parser(subparsers) -> None:
         "baseline", help="optimised vs shortest-distance handover locations from start points",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--start", action="append", metavar="X,Y,Z",
-                        help="a start point of the box [m]; repeat for several; write "
-                        "--start=-0.4,... when it starts with a minus (default: the paper's "
-                        "five)")
+                        help="a start point of the box [m], e.g. --start -0.3,0.8,0.9; repeat "
+                        "for several (default: the paper's five)")
     parser.add_argument("--boundary", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
                         help="handover boundary (default: the landscape's, else paper-code)")
     parser.add_argument("--step", type=float, metavar="S",
                         help=f"grid step [m] (default: the landscape's, else {DEFAULT_STEP})")
     add_body_arguments(parser)
     parser.add_argument("--landscape", type=Path, metavar="FILE",
-                        help="a landscape .npz from `ergohandover sweep` (default: reuse or "
-                        "sweep results/landscapes/<key>/landscape.npz)")
-    parser.add_argument("--output", type=Path, default=DEFAULT_OUTPUT, metavar="FILE",
-                        help=f"CSV to write; the .md table and manifest.json go beside it "
-                        f"(default: {DEFAULT_OUTPUT})")
+                        help="a landscape .npz (default: the matching one from the landscape "
+                        "cache, swept into it when missing)")
+    parser.add_argument("--output", type=Path, metavar="FILE",
+                        help="CSV to write; the .md table and manifest.json go beside it "
+                        "(default: runs/baseline/<timestamp>/baselines.csv)")
     parser.add_argument("--render", type=Path, metavar="DIR",
                         help="also write a PNG per start and location, a contact sheet and a "
                         "GIF of the first carry into DIR (created if needed)")
@@ -106,16 +107,9 @@ def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
         return landscape, args.landscape
     grid = Grid(parse_boundary(args.boundary or "paper-code", body, task),
                 args.step or DEFAULT_STEP)
-    key = landscape_key(evaluator, grid)
-    output = LANDSCAPES / key / "landscape.npz"
-    output.parent.mkdir(parents=True, exist_ok=True)
+    output = landscape_path(landscape_key(evaluator, grid))
     print(f"landscape: {grid.describe()} -> {output}", file=sys.stderr)
-    start = time.perf_counter()
-    landscape, reused = sweep(grid, evaluator, output, workers=args.workers)
-    if not reused:
-        write_manifest(output, config={"evaluator": dataclasses.asdict(evaluator),
-                                       "grid": dataclasses.asdict(grid), "key": key},
-                       seeds={}, wall_time_s=time.perf_counter() - start)
+    landscape, _ = sweep(grid, evaluator, workers=args.workers)
     return landscape, output
 
 
@@ -146,8 +140,7 @@ def markdown_table(table: pd.DataFrame) -> str:
 
 def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
-    if args.workers < 1:
-        raise InputError(f"workers = {args.workers} is outside the valid range (at least 1)")
+    check_workers(args.workers)
     starts = np.array([parse_start(s) for s in args.start]) if args.start else PAPER_STARTS
     try:
         robot = RobotSpec(distance=args.robot_distance, arm_spacing=args.robot_spacing,
@@ -156,25 +149,24 @@ def run(args: argparse.Namespace) -> int:
         field = str(exc).split(" = ")[0]
         raise InputError(str(exc).replace(field, ROBOT_FLAGS.get(field, field), 1)) from None
     evaluator = Evaluator(body_from_args(args), TaskSpec())
-    if args.output.parent == DEFAULT_OUTPUT.parent:
-        args.output.parent.mkdir(parents=True, exist_ok=True)
-    elif not args.output.parent.is_dir():
+    if args.output is not None and not args.output.parent.is_dir():
         raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
                          "not exist")
-    landscape, landscape_path = obtain_landscape(args, evaluator)
+    landscape, source = obtain_landscape(args, evaluator)
     result = compare(starts, landscape, evaluator, robot)
+    output = args.output or run_folder("baseline") / "baselines.csv"
     markdown = markdown_table(result.table)
-    atomic_write_csv(result.table, args.output)
-    md_path = atomic_write(args.output.with_suffix(".md"), lambda h: h.write(markdown))
+    atomic_write_csv(result.table, output)
+    md_path = atomic_write(output.with_suffix(".md"), lambda h: h.write(markdown))
     pictures = render(result, evaluator, robot, args.render) if args.render else []
-    write_manifest(args.output, config={
+    write_manifest(output, config={
         "starts": starts.tolist(), "evaluator": dataclasses.asdict(evaluator),
-        "robot": dataclasses.asdict(robot), "landscape": str(landscape_path),
+        "robot": dataclasses.asdict(robot), "landscape": str(source),
         "landscape_key": landscape.key, "grid": dataclasses.asdict(landscape.grid)},
         seeds={}, wall_time_s=time.perf_counter() - started,
-        extra={"outputs": [str(args.output), str(md_path), *map(str, pictures)]})
+        extra={"outputs": [str(output), str(md_path), *map(str, pictures)]})
     print(markdown, end="")
-    print(f"wrote {args.output}, {md_path}", file=sys.stderr)
+    print(f"wrote {output}, {md_path}", file=sys.stderr)
     return 0
 
 

@@ -10,11 +10,19 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from ..executor import check_workers
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
-from ..twin.evaluate import SOLVERS, Evaluator, evaluate, posture_solver
+from ..twin.evaluate import (
+    EVALUATION_COLUMNS,
+    SOLVERS,
+    Evaluator,
+    evaluate,
+    joint_angles,
+    posture_solver,
+)
 from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args
+from .options import add_body_arguments, body_from_args, run_folder
 
 DESCRIPTION = """\
 Evaluate box locations: for each row of --points (columns x, y, z: the box centre in the worker
@@ -31,8 +39,9 @@ def add_parser(subparsers) -> None:
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--points", required=True, metavar="CSV",
                         help="box locations: columns x, y, z [m], worker frame; - for stdin")
-    parser.add_argument("--output", required=True, metavar="CSV",
-                        help="Evaluation CSV to write (atomically), or - for standard output")
+    parser.add_argument("--output", metavar="CSV",
+                        help="Evaluation CSV to write (atomically), or - for standard output "
+                        "(default: runs/evaluate/<timestamp>/evaluation.csv)")
     add_body_arguments(parser)
     parser.add_argument("--solver", choices=SOLVERS, default="numpy",
                         help="numpy: whole-body solver (balance, gaze, palms); pybullet: "
@@ -60,38 +69,39 @@ def read_points(source: str) -> np.ndarray:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.workers < 1:
-        raise InputError(f"workers = {args.workers} is outside the valid range (at least 1)")
+    check_workers(args.workers)
     body, task = body_from_args(args), TaskSpec()
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:
         table = evaluate(points, body, task, solver=args.solver, workers=args.workers,
-                         progress=bar.update)
-    if args.output == "-":
-        table.to_csv(sys.stdout, index=False)
+                         progress=bar.update, joints=args.render is not None)
+    output = args.output or str(run_folder("evaluate") / "evaluation.csv")
+    if output == "-":
+        table[list(EVALUATION_COLUMNS)].to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table, args.output)
+        atomic_write_csv(table[list(EVALUATION_COLUMNS)], output)
     if args.render:
         render_points(table, points, Evaluator(body, task, args.solver), args.render)
     feasible = int(table["feasible"].sum())
     print(f"evaluated {len(table)} locations ({feasible} feasible)"
-          + ("" if args.output == "-" else f" -> {args.output}"), file=sys.stderr)
+          + ("" if output == "-" else f" -> {output}"), file=sys.stderr)
     return 0
 
 
 def render_points(table, points: np.ndarray, evaluator: Evaluator, folder: Path) -> None:
-    """One PNG per point: the twin (same posture as the CSV: the solver is deterministic)."""
+    """One PNG per point: the twin in the posture of its row (``table`` has the joint columns
+    of ``evaluate(..., joints=True)``)."""
     from ..scene.render import Renderer, caption_lines, save_png
 
     folder.mkdir(parents=True, exist_ok=True)
-    solver = posture_solver(evaluator)
-    q = solver.solve(points).q
+    names = posture_solver(evaluator).model.joint_names
+    q = joint_angles(table)
     renderer = Renderer(evaluator.body, evaluator.task)
     try:
         for i in tqdm(range(len(points)), desc="render", unit="png", file=sys.stderr,
                       disable=len(points) < 5):
-            renderer.pose(solver.model.joint_names, q[i], points[i])
+            renderer.pose(names, q[i], points[i])
             save_png(renderer.views(), caption_lines(table.iloc[i]),
                      folder / f"point_{i + 1:04d}.png")
     finally:

@@ -1,4 +1,5 @@
-"""Command-line options generated from frozen dataclass configs: one source of truth.
+"""What the commands share: options generated from frozen dataclass configs, the worker's
+body flags, X,Y,Z values that start with a minus, and the default output folder.
 
 A field's ``metadata["help"]`` becomes its ``--help`` text and ``metadata["choices"]`` its
 choices; the dataclass's own validation runs when the config is built from the parsed flags.
@@ -8,6 +9,9 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import re
+import time
+from pathlib import Path
 from typing import Any, TypeVar
 
 T = TypeVar("T")
@@ -67,3 +71,40 @@ def body_from_args(args: argparse.Namespace):
     overrides = {k: v for k, v in (("stature_m", args.stature), ("mass_kg", args.mass),
                                    ("sex", args.sex)) if v is not None}
     return dataclasses.replace(body, **overrides) if overrides else body
+
+
+RUNS = Path("runs")
+"""Where commands write by default (ignored by git): ``runs/<command>/<timestamp>/``. The study's
+``results/`` and ``paper_figs/`` are written only by the study scripts."""
+
+
+def run_folder(command: str) -> Path:
+    """A new ``runs/<command>/<YYYYmmdd-HHMMSS>[-N]/`` below the working directory (created)."""
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    for n in range(1, 1000):
+        folder = RUNS / command / (stamp if n == 1 else f"{stamp}-{n}")
+        try:
+            folder.mkdir(parents=True)
+            return folder
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{RUNS / command}: no free folder name for {stamp}")
+
+
+COORDINATE_FLAGS = ("--start", "--boundary")
+"""Flags whose value is a list of numbers, which may start with a minus sign."""
+_NUMBERS = re.compile(r"^-\d*\.?\d+(e[-+]?\d+)?(,[-+]?\d*\.?\d+(e[-+]?\d+)?)*$", re.IGNORECASE)
+
+
+def join_negative_values(argv: list[str]) -> list[str]:
+    """``--start -0.3,0.8,0.9`` -> ``--start=-0.3,0.8,0.9``: argparse would take the value for
+    an option because it starts with a minus; every X,Y,Z flag accepts it as typed."""
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in COORDINATE_FLAGS and i + 1 < len(argv) and _NUMBERS.match(argv[i + 1]):
+            out.append(f"{argv[i]}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out

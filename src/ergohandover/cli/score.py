@@ -10,7 +10,7 @@ import pandas as pd
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
 from ..io.atomic import atomic_write_csv
 from ..io.posture_csv import read_postures
-from .options import add_dataclass_arguments, dataclass_from_args
+from .options import add_dataclass_arguments, dataclass_from_args, run_folder
 
 DESCRIPTION = """\
 Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1993) and the
@@ -27,8 +27,9 @@ def add_parser(subparsers) -> None:
     )
     parser.add_argument("--input", required=True, metavar="CSV",
                         help="Posture CSV to read, or - for standard input")
-    parser.add_argument("--output", required=True, metavar="CSV",
-                        help="scores CSV to write (atomically), or - for standard output")
+    parser.add_argument("--output", metavar="CSV",
+                        help="scores CSV to write (atomically), or - for standard output "
+                        "(default: runs/score/<timestamp>/scores.csv)")
     add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
                             "open)")
     parser.set_defaults(run=run)
@@ -41,9 +42,10 @@ def run(args: argparse.Namespace) -> int:
     scores = pd.DataFrame(score_postures(posture, settings))
     passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
     table = pd.concat([passthrough, scores], axis=1)
-    if args.output == "-":
+    output = args.output or str(run_folder("score") / "scores.csv")
+    if output == "-":
         table.to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table, args.output)
-        print(f"scored {len(table)} postures -> {args.output}", file=sys.stderr)
+        atomic_write_csv(table, output)
+        print(f"scored {len(table)} postures -> {output}", file=sys.stderr)
     return 0

@@ -12,23 +12,23 @@ from pathlib import Path
 from tqdm import tqdm
 
 from ..io.csv_input import InputError
+from ..landscape.cache import Landscape, landscape_key, landscape_path
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
-from ..landscape.sweep import Landscape
+from ..learning.runner import AGENTS, TEMPERATURES, run_agent
 from ..twin.evaluate import Evaluator
 from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args
+from .options import add_body_arguments, body_from_args, run_folder
 
-AGENTS = ("qlearning", "dqn", "random", "hillclimb")
-DEFAULT_DIR = Path("results") / "train"
 DESCRIPTION = """\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
 paper's: alpha 0.1, gamma 0.9, Q = 0, softmax with temperature 0.7), DQN (stable-baselines3),
 uniform random search or hill-climbing with random restarts, until a wall-clock or step cap.
-Scores come from --landscape (a file written by `ergohandover sweep`) or are computed online
-(memoised) on the grid of --boundary/--step. Writes trace.csv (time_s, step, best score and
+Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
+--boundary/--step for this worker was swept before (`ergohandover sweep`), else they are computed
+online (memoised). Writes trace.csv (time_s, step, best score and
 its x, y, z after every improvement), best_locations.csv (every location found at the best
 score, the most symmetric first), q_table.npz (Q-learning: visited states only) or
-dqn_model.zip, and manifest.json into --output."""
+dqn_model.zip, and manifest.json into --output (default: a new runs/train/<timestamp>/)."""
 
 
 def add_parser(subparsers) -> None:
@@ -57,16 +57,17 @@ def add_parser(subparsers) -> None:
                         help="truncate episodes after N steps, then restart at a random cell "
                         "(default: 10000)")
     parser.add_argument("--landscape", type=Path, metavar="FILE",
-                        help="read scores from this landscape (.npz from `sweep`); its grid is "
-                        "used. Without it scores are computed online")
+                        help="read scores from this landscape file; its grid is used. Without "
+                        "it: the landscape cache's for --boundary/--step if swept before, else "
+                        "online")
     parser.add_argument("--boundary", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
-                        help="online grid boundary (default: paper-code, the published "
+                        help="grid boundary (default: paper-code, the published "
                         "learner's, so online and landscape runs solve the same problem)")
     parser.add_argument("--step", metavar="S",
                         help=f"online grid step [m] (default: {DEFAULT_STEP})")
     add_body_arguments(parser)
     parser.add_argument("--output", type=Path, metavar="DIR",
-                        help="result directory (default: results/train/<agent>_seed<K>/)")
+                        help="result directory (default: a new runs/train/<timestamp>/)")
     parser.set_defaults(run=run)
 
 
@@ -105,7 +106,7 @@ def parse(args: argparse.Namespace) -> dict:
         "steps": _number("steps", args.steps, int, 1),
         "seed": _number("seed", args.seed, int, 0),
         "objective": _choice("objective", args.objective, OBJECTIVES),
-        "temperature": _choice("temperature", args.temperature, ("fixed", "adaptive")),
+        "temperature": _choice("temperature", args.temperature, TEMPERATURES),
         "target": _number("target", args.target, float, 0),
         "episode_end": _choice("episode-end", args.episode_end, EPISODE_ENDS),
         "episode_steps": _number("episode-steps", args.episode_steps, int, 1),
@@ -130,15 +131,18 @@ def build_env(config: dict, args: argparse.Namespace):
     """The env and what it was built from (landscape or online evaluator and grid)."""
     from ..envs import HandoverEnv, LandscapeScores, OnlineScores
 
-    landscape = None
-    if config["landscape"] is not None:
-        landscape = Landscape.load(config["landscape"])
-        scores = LandscapeScores(landscape, config["objective"])
-        source = {"landscape": str(config["landscape"]), "landscape_key": landscape.key}
-    else:
+    landscape, path = None, config["landscape"]
+    if path is None:  # the landscape cache holds this grid's landscape if it was swept before
         body, task = body_from_args(args), TaskSpec()
         grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
         evaluator = Evaluator(body, task)
+        cached = landscape_path(landscape_key(evaluator, grid))
+        path = cached if cached.exists() else None
+    if path is not None:
+        landscape = Landscape.load(path)
+        scores = LandscapeScores(landscape, config["objective"])
+        source = {"landscape": str(path), "landscape_key": landscape.key}
+    else:
         # Random search jumps anywhere: prefetching a cube of neighbours would be waste.
         scores = OnlineScores(grid, evaluator, config["objective"],
                               block=1 if config["agent"] == "random" else 4)
@@ -147,28 +151,6 @@ def build_env(config: dict, args: argparse.Namespace):
                       episode_end=config["episode_end"], target=config["target"])
     source["grid"] = dataclasses.asdict(scores.grid)
     return env, landscape, source
-
-
-def run_agent(env, config: dict, progress=None):
-    """Run the configured agent on ``env``; returns (RunResult, agent config or None)."""
-    from ..learning.trace import Budget
-
-    budget = Budget(config["time_cap_s"], config["steps"])
-    agent, seed = config["agent"], config["seed"]
-    if agent == "qlearning":
-        from ..learning.qlearning import QLearningConfig, run_qlearning
-
-        cfg = QLearningConfig(temperature=config["temperature"],
-                              episode_steps=config["episode_steps"])
-        return run_qlearning(env, budget, seed, cfg, progress), cfg
-    if agent == "dqn":
-        from ..learning.dqn import DQNConfig, run_dqn
-
-        cfg = DQNConfig(episode_steps=config["episode_steps"])
-        return run_dqn(env, budget, seed, cfg, progress), cfg
-    from ..learning.search import run_hillclimb, run_random
-
-    return (run_random if agent == "random" else run_hillclimb)(env, budget, seed, progress), None
 
 
 def _bar(config: dict) -> tqdm:
@@ -183,9 +165,8 @@ def _bar(config: dict) -> tqdm:
 
 def run(args: argparse.Namespace) -> int:
     config = parse(args)
-    output = args.output or DEFAULT_DIR / f"{config['agent']}_seed{config['seed']}"
-    if output.exists() and not output.is_dir():  # found now, not after the run
-        raise InputError(f"output = '{output}' is a file (expected a directory)")
+    if args.output is not None and args.output.exists() and not args.output.is_dir():
+        raise InputError(f"output = '{args.output}' is a file (expected a directory)")
     started = time.perf_counter()
     env, landscape, source = build_env(config, args)
     with _bar(config) as bar:
@@ -194,7 +175,12 @@ def run(args: argparse.Namespace) -> int:
             bar.set_postfix_str(f"{steps:,} steps", refresh=False)
             bar.update(done - bar.n)  # redraws at most every 0.1 s
 
-        result, agent_config = run_agent(env, config, progress)
+        from ..learning.trace import Budget
+
+        result, agent_config = run_agent(
+            config["agent"], env, Budget(config["time_cap_s"], config["steps"]),
+            config["seed"], config["temperature"], config["episode_steps"], progress)
+    output = args.output or run_folder("train")
     from ..learning.search import exhaustive
     from ..learning.trace import write_result
 

@@ -1,4 +1,7 @@
-"""Gymnasium environments: :class:`HandoverEnv` (``ergohandover/Handover-v0``)."""
+"""Gymnasium environments: :class:`HandoverEnv`, registered as ``ergohandover/Handover-v0`` when
+this package is imported (as Gymnasium environment packages do), so that after
+``import ergohandover.envs``, ``gymnasium.make("ergohandover/Handover-v0", landscape=FILE)``
+builds it."""
 
 from __future__ import annotations
 
@@ -25,3 +28,6 @@ def register() -> str:
         gymnasium.register(id=ENV_ID, entry_point="ergohandover.envs.handover_env:HandoverEnv",
                            max_episode_steps=EPISODE_STEPS)
     return ENV_ID
+
+
+register()

@@ -10,8 +10,9 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from ..errors import ConfigError, UsageError
+from ..landscape.cache import Landscape
 from ..landscape.grid import DEFAULT_STEP, Grid
-from ..landscape.sweep import Landscape
 from ..twin.task import Boundary
 from .scores import SCORE_MAX, LandscapeScores, OnlineScores, ScoreSource, check_objective
 
@@ -101,10 +102,10 @@ class HandoverEnv(gym.Env):
                  infeasible_reward: float = INFEASIBLE_REWARD,
                  boundary: Boundary | None = None, step: float = DEFAULT_STEP):
         if observation not in OBSERVATIONS:
-            raise ValueError(f"observation = {observation!r} is not allowed (use "
+            raise ConfigError(f"observation = {observation!r} is not allowed (use "
                              f"{' or '.join(OBSERVATIONS)})")
         if episode_end not in EPISODE_ENDS:
-            raise ValueError(f"episode_end = {episode_end!r} is not allowed (use "
+            raise ConfigError(f"episode_end = {episode_end!r} is not allowed (use "
                              f"{' or '.join(EPISODE_ENDS)})")
         if scores is None:
             scores = _default_scores(landscape, check_objective(objective), boundary, step)
@@ -162,14 +163,16 @@ class HandoverEnv(gym.Env):
         elif cell % nz > 0:
             cell -= 1
         score = self._score(cell)
-        if score == math.inf:
-            return cell, score, self.infeasible_reward, False
-        reward = 1.0 / (score * score) + self._symmetry[cell // self._stride_x]
-        return cell, score, reward, self._terminates and score <= self.target
+        return (cell, score, self.reward_of(cell, score),
+                self._terminates and score <= self.target)
 
     def reward(self, cell: int) -> float:
         """The reward for arriving at ``cell`` (as :meth:`transition` computes it)."""
-        score = self._score(cell)
+        return self.reward_of(cell, self._score(cell))
+
+    def reward_of(self, cell: int, score: float) -> float:
+        """The reward ``1/E² + S`` for arriving at ``cell`` with objective ``score`` (the one
+        place it is computed); :attr:`infeasible_reward` where the score is infinite."""
         if score == math.inf:
             return self.infeasible_reward
         return 1.0 / (score * score) + self._symmetry[cell // self._stride_x]
@@ -185,10 +188,10 @@ class HandoverEnv(gym.Env):
 
     def step(self, action):
         if self.cell is None:
-            raise RuntimeError("call reset() before step()")
+            raise UsageError("call reset() before step()")
         action = int(action)
         if not 0 <= action < len(ACTIONS):
-            raise ValueError(f"action = {action} is outside the valid range 0-5")
+            raise ConfigError(f"action = {action} is outside the valid range 0-5")
         self.cell, score, reward, terminated = self.transition(self.cell, action)
         return (self._observe(self.cell, score), reward, terminated, False,
                 self._info(self.cell, score))
@@ -199,11 +202,11 @@ class HandoverEnv(gym.Env):
         if isinstance(cell, tuple | list | np.ndarray) and len(cell) == 3:
             i, j, k = (int(c) for c in cell)
             if not all(0 <= c < n for c, n in zip((i, j, k), self.shape, strict=True)):
-                raise ValueError(f"start = {tuple(cell)} is outside the grid {self.shape}")
+                raise ConfigError(f"start = {tuple(cell)} is outside the grid {self.shape}")
             return (i * self._ny + j) * self._nz + k
         flat = int(cell)
         if not 0 <= flat < self.grid.size:
-            raise ValueError(f"start = {flat} is outside the valid range 0-{self.grid.size - 1}")
+            raise ConfigError(f"start = {flat} is outside the valid range 0-{self.grid.size - 1}")
         return flat
 
     def indices(self, cell: int) -> tuple[int, int, int]:

@@ -12,12 +12,12 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from ..ergonomics import OBJECTIVES
+from ..errors import ConfigError
+from ..landscape.cache import Landscape, LandscapeError
 from ..landscape.grid import Grid
-from ..landscape.sweep import Landscape, LandscapeError
-from ..twin.evaluate import Evaluator, evaluate
+from ..twin.evaluate import Evaluator, evaluate_arrays
 
-OBJECTIVES = ("paper_postural", "reba", "reba_ab", "rula")
-"""Scores a learner can minimise (lower is safer)."""
 SCORE_MAX = {"paper_postural": 14, "reba": 15, "reba_ab": 24, "rula": 7}
 """The largest value each objective can take (to normalise observations): the paper's score
 2 neck + 4 trunk + 3 legs + 1 hands above the neck + 4 arm; REBA 15; Table A + Table B 12 + 12;
@@ -27,7 +27,7 @@ RULA 7."""
 def check_objective(objective: str) -> str:
     """``objective`` if it is one of :data:`OBJECTIVES`; a one-line ValueError otherwise."""
     if objective not in OBJECTIVES:
-        raise ValueError(f"objective = {objective!r} is not allowed (use "
+        raise ConfigError(f"objective = {objective!r} is not allowed (use "
                          f"{', '.join(OBJECTIVES)})")
     return objective
 
@@ -87,7 +87,7 @@ class OnlineScores(ScoreSource):
     def __init__(self, grid: Grid, evaluator: Evaluator | None = None,
                  objective: str = "paper_postural", block: int = 4):
         if block < 1:
-            raise ValueError(f"block = {block} is outside the valid range (at least 1)")
+            raise ConfigError(f"block = {block} is outside the valid range (at least 1)")
         self.grid = grid
         self.evaluator = evaluator or Evaluator()
         self.objective = check_objective(objective)
@@ -108,11 +108,10 @@ class OnlineScores(ScoreSource):
         ranges = [np.arange(c - c % self.block, min(c - c % self.block + self.block, n))
                   for c, n in zip(cell, shape, strict=True)]
         cells = np.ravel_multi_index(np.meshgrid(*ranges, indexing="ij"), shape).ravel()
-        e = self.evaluator
-        rows = evaluate(self.grid.coordinates(cells), e.body, e.task, e.solver, e.settings,
-                        e.scoring)
-        feasible = rows["feasible"].to_numpy() == 1
-        values = rows[self.objective].to_numpy(dtype=float, na_value=np.nan)
+        rows = evaluate_arrays(self.grid.coordinates(cells), self.evaluator,
+                               columns=("flags", self.objective))
+        feasible = rows["flags"] == 0
+        values = rows[self.objective].astype(float)
         for c, ok, v in zip(cells.tolist(), feasible.tolist(), values.tolist(), strict=True):
             self._memo[c] = float(v) if ok else math.inf
         self.evaluations += len(cells)

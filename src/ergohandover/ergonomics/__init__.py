@@ -11,11 +11,12 @@ from .paper_score import paper_postural
 from .posture import POSTURE_COLUMNS, REQUIRED_COLUMNS, Posture, PostureError
 from .reba import reba
 from .rula import rula
-from .scores import MAIN_SCORE_COLUMNS, SCORE_COLUMNS, score_postures
+from .scores import MAIN_SCORE_COLUMNS, OBJECTIVES, SCORE_COLUMNS, score_postures
 from .settings import ScoringSettings, SettingsError
 
 __all__ = [
     "MAIN_SCORE_COLUMNS",
+    "OBJECTIVES",
     "POSTURE_COLUMNS",
     "REQUIRED_COLUMNS",
     "SCORE_COLUMNS",

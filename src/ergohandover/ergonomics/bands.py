@@ -7,6 +7,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..errors import ConfigError
+
 SCORE_DTYPE = np.int8
 
 
@@ -28,7 +30,7 @@ def banded(values: np.ndarray, edges: Sequence[float], scores: Sequence[int],
         (N,) int8 scores.
     """
     if len(edges) != len(scores) - 1 or list(edges) != sorted(edges):
-        raise ValueError(f"need ascending edges, one fewer than scores: {edges}, {scores}")
+        raise ConfigError(f"need ascending edges, one fewer than scores: {edges}, {scores}")
     edges, scores, on_edge = _without_empty_bands(edges, scores, severe_on_edge)
     out = np.full(values.shape, scores[0], dtype=SCORE_DTYPE)
     for edge, below, above in zip(edges, scores[:-1], scores[1:], strict=True):

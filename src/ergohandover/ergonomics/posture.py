@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ErgohandoverError
+
 SIDES = ("left", "right")
 
 
@@ -75,7 +77,7 @@ POSTURE_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS)
 REQUIRED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.default is None)
 
 
-class PostureError(ValueError):
+class PostureError(ErgohandoverError, ValueError):
     """A posture value or column that cannot be scored; the message is one line.
 
     Attributes:

@@ -6,8 +6,9 @@ Table A circulates in two versions that differ in 31 of 144 cells; this is the m
 leaves open come from :class:`~ergohandover.ergonomics.settings.ScoringSettings`.
 
 Muscle use (+1, static > 1 min or repeated > 4x/min) is the ``muscle_use`` column. Force/load is
-derived from ``load_kg``, ``shock`` and ``muscle_use``: < 2 kg 0; 2-10 kg intermittent 1;
-2-10 kg static or repeated 2; > 10 kg or shock 3.
+derived from ``load_kg``, ``shock`` and ``muscle_use`` (static or repeated when it is 1, else
+intermittent), as McAtamney & Corlett (1993) list it: < 2 kg 0; 2-10 kg intermittent 1; 2-10 kg
+static or repeated, or > 10 kg intermittent 2; > 10 kg static or repeated, or shock 3.
 """
 
 from __future__ import annotations
@@ -104,11 +105,12 @@ def trunk(p: Posture, s: ScoringSettings) -> np.ndarray:
 
 
 def force(p: Posture) -> np.ndarray:
-    """Force/load 0-3 from load, shock and muscle use (kg bands read literally)."""
+    """Force/load 0-3 from load, shock and muscle use (kg bands read literally: 10 kg is in the
+    2-10 kg band). Static or repeated (``muscle_use`` 1) adds one to the intermittent score."""
     kg = p["load_kg"]
-    mid = (kg >= 2.0) & (kg <= 10.0)
-    score = np.where(mid, 1 + p["muscle_use"], 0.0)
-    score = np.where((kg > 10.0) | (p["shock"] == 1), 3.0, score)
+    intermittent = np.select([kg > 10.0, kg >= 2.0], [2.0, 1.0], 0.0)
+    score = np.where(kg >= 2.0, intermittent + p["muscle_use"], 0.0)
+    score = np.where(p["shock"] == 1, 3.0, score)
     return score.astype(SCORE_DTYPE)
 
 

@@ -11,6 +11,9 @@ from .rula import rula
 from .settings import ScoringSettings
 
 # The headline score columns of DESIGN.md, in contract order; item scores follow them.
+OBJECTIVES = ("paper_postural", "reba", "reba_ab", "rula")
+"""The headline scores (lower is safer): what a learner can minimise and what every table of
+the study reports."""
 MAIN_SCORE_COLUMNS = (
     "reba", "reba_table_a", "reba_table_b", "reba_score_a", "reba_score_b", "reba_score_c",
     "reba_action_level", "rula", "paper_postural",

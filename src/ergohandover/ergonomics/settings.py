@@ -11,13 +11,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..errors import ConfigError
 from ..ranges import check_ranges, ranged
 
 MAX_COUNT_FROM_DEG = 30.0
 MAX_NEUTRAL_TOLERANCE_DEG = 15.0
 
 
-class SettingsError(ValueError):
+class SettingsError(ConfigError):
     """A scoring setting outside its valid range; the message is one line."""
 
 

@@ -10,8 +10,10 @@ from typing import IO
 
 import pandas as pd
 
+from ..errors import ErgohandoverError
 
-class OutputError(OSError):
+
+class OutputError(ErgohandoverError, OSError):
     """An output location that cannot be written; the message is one line."""
 
 

@@ -11,8 +11,10 @@ from typing import IO
 import numpy as np
 import pandas as pd
 
+from ..errors import ErgohandoverError
 
-class InputError(ValueError):
+
+class InputError(ErgohandoverError, ValueError):
     """An input file that cannot be used; the message is one line naming what is wrong."""
 
 

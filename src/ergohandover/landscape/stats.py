@@ -8,10 +8,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..ergonomics import OBJECTIVES
 from ..io.atomic import atomic_write, atomic_write_csv
-from .sweep import Landscape
-
-STAT_SCORES = ("paper_postural", "reba", "reba_ab", "rula")
+from .cache import Landscape, LandscapeError
 
 
 def most_symmetric(points: np.ndarray) -> int:
@@ -30,14 +29,31 @@ def minimisers(landscape: Landscape, score: str) -> np.ndarray:
     return np.flatnonzero(feasible & (values == values[feasible].min()))
 
 
+def optimum(landscape: Landscape, score: str = "paper_postural") -> tuple[np.ndarray, np.ndarray]:
+    """The best location of a landscape for ``score``: the study's one rule.
+
+    Returns:
+        The flat indices of every feasible point at the minimum, and the most symmetric of
+        them (:func:`most_symmetric`), (3,) worker frame [m].
+    """
+    if score not in landscape.arrays:
+        raise LandscapeError(f"score = {score!r} is not in the landscape (has "
+                             f"{', '.join(sorted(landscape.arrays))})")
+    if not landscape.feasible.any():
+        raise LandscapeError("the landscape has no feasible point")
+    cells = minimisers(landscape, score)
+    points = landscape.grid.coordinates(cells)
+    return cells, points[most_symmetric(points)]
+
+
 def statistics(landscape: Landscape) -> pd.DataFrame:
     """One row per score: feasible count and fraction, minimum, how many points reach it and
     where (bounding box, most symmetric minimiser), worker frame [m]."""
     feasible = landscape.feasible
     if not feasible.any():
-        raise ValueError("the landscape has no feasible point")
+        raise LandscapeError("the landscape has no feasible point")
     rows = []
-    for score in STAT_SCORES:
+    for score in OBJECTIVES:
         at_min = minimisers(landscape, score)
         points = landscape.grid.coordinates(at_min)
         best = points[most_symmetric(points)]
@@ -57,7 +73,7 @@ def distributions(landscape: Landscape) -> pd.DataFrame:
     """Counts and fractions of each score value over the feasible points."""
     feasible = landscape.feasible
     frames = []
-    for score in STAT_SCORES:
+    for score in OBJECTIVES:
         values, counts = np.unique(landscape.arrays[score][feasible], return_counts=True)
         frames.append(pd.DataFrame({"score": score, "value": values.astype(int),
                                     "count": counts, "fraction": counts / feasible.sum()}))

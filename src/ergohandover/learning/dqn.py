@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import gymnasium as gym
 
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
+from ..errors import ConfigError
 from .qlearning import seeds_of
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
 
@@ -101,7 +102,7 @@ def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
     cfg = config or DQNConfig()
     base: HandoverEnv = env.unwrapped
     if base.observation != "position":
-        raise ValueError("DQN needs the env's observation = 'position' (got "
+        raise ConfigError("DQN needs the env's observation = 'position' (got "
                          f"{base.observation!r})")
     torch.set_num_threads(cfg.threads)
     best = BestSoFar(base.location)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
+from ..errors import ConfigError
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
 
 TEMPERATURES = ("fixed", "adaptive")
@@ -56,17 +57,17 @@ class QLearningConfig:
 
     def __post_init__(self):
         if self.temperature not in TEMPERATURES:
-            raise ValueError(f"temperature = {self.temperature!r} is not allowed (use "
+            raise ConfigError(f"temperature = {self.temperature!r} is not allowed (use "
                              f"{' or '.join(TEMPERATURES)})")
         for name, value, lo, hi in (("alpha", self.alpha, 0.0, 1.0),
                                     ("gamma", self.gamma, 0.0, 1.0)):
             if not lo < value <= hi:
-                raise ValueError(f"{name} = {value!r} is outside the valid range ({lo:g}, {hi:g}]")
+                raise ConfigError(f"{name} = {value!r} is outside the valid range ({lo:g}, {hi:g}]")
         lo, hi = self.tau_bounds
         if not 0 < lo <= self.tau <= hi:
-            raise ValueError(f"tau = {self.tau!r} is outside the valid range {lo:g}-{hi:g}")
+            raise ConfigError(f"tau = {self.tau!r} is outside the valid range {lo:g}-{hi:g}")
         if self.episode_steps < 1:
-            raise ValueError(f"episode_steps = {self.episode_steps} is outside the valid range "
+            raise ConfigError(f"episode_steps = {self.episode_steps} is outside the valid range "
                              "(at least 1)")
 
 

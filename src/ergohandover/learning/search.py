@@ -9,8 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..envs.handover_env import HandoverEnv
-from ..landscape.stats import minimisers, most_symmetric
-from ..landscape.sweep import Landscape
+from ..landscape.cache import Landscape
+from ..landscape.stats import optimum
 from .qlearning import seeds_of
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
 
@@ -127,8 +127,6 @@ class Exhaustive:
 
 def exhaustive(landscape: Landscape, objective: str = "paper_postural") -> Exhaustive:
     """Read the landscape's minimum of ``objective`` (every cell was evaluated by the sweep)."""
-    cells = minimisers(landscape, objective)
-    points = landscape.grid.coordinates(cells)
-    location = tuple(float(v) for v in points[most_symmetric(points)])
-    return Exhaustive(float(landscape.arrays[objective][cells[0]]), cells, location,
-                      len(cells) / int(landscape.feasible.sum()))
+    cells, best = optimum(landscape, objective)
+    return Exhaustive(float(landscape.arrays[objective][cells[0]]), cells,
+                      tuple(float(v) for v in best), len(cells) / int(landscape.feasible.sum()))

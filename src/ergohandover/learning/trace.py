@@ -13,9 +13,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..errors import ConfigError
 from ..io.atomic import atomic_write, atomic_write_csv
+from ..io.manifest import write_manifest
 from ..landscape.stats import most_symmetric
-from ..study.manifest import write_manifest
 
 TRACE_COLUMNS = ("time_s", "step", "best_score", "best_x", "best_y", "best_z")
 BLOCK = 4096
@@ -43,13 +44,13 @@ class Budget:
 
     def __post_init__(self):
         if self.time_cap_s is None and self.steps is None:
-            raise ValueError("a budget needs a time cap or a step cap")
+            raise ConfigError("a budget needs a time cap or a step cap")
         if self.time_cap_s is not None and not (math.isfinite(self.time_cap_s)
                                                 and self.time_cap_s > 0):
-            raise ValueError(f"time_cap_s = {self.time_cap_s!r} is outside the valid range "
+            raise ConfigError(f"time_cap_s = {self.time_cap_s!r} is outside the valid range "
                              "(> 0 s)")
         if self.steps is not None and self.steps < 1:
-            raise ValueError(f"steps = {self.steps!r} is outside the valid range (at least 1)")
+            raise ConfigError(f"steps = {self.steps!r} is outside the valid range (at least 1)")
 
     @property
     def step_limit(self) -> int | float:

@@ -27,6 +27,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from ..errors import ModelError
 from ..io.atomic import atomic_write
 from ..twin.task import TaskSpec
 
@@ -189,13 +190,13 @@ def load_box(client: int, task: TaskSpec | None = None,
     Returns:
         The body id and its links, looked up by name.
     """
-    from .sim import pybullet
+    from ..sim import pybullet
 
     p = pybullet()
     path = cached_box_urdf(task, cache_dir)
     body = p.loadURDF(str(path), useFixedBase=True, physicsClientId=client)
     if body < 0:
-        raise RuntimeError(f"PyBullet could not load {path}")
+        raise ModelError(f"PyBullet could not load {path}")
     links: dict[str, Any] = {"box": -1}
     for i in range(p.getNumJoints(body, physicsClientId=client)):
         links[p.getJointInfo(body, i, physicsClientId=client)[12].decode()] = i

@@ -11,11 +11,11 @@ from PIL import Image, ImageDraw, ImageFont
 
 from ..frames import worker_to_world
 from ..io.atomic import atomic_write
+from ..sim import connect_direct
+from ..sim import pybullet as _pybullet
 from ..twin.anthropometry import BodySpec
 from ..twin.task import TaskSpec
 from ..twin.urdf import load_worker
-from .sim import connect_direct
-from .sim import pybullet as _pybullet
 
 VIEW_SIZE = 480
 CARDBOARD = (0.72, 0.55, 0.33, 1.0)

@@ -31,8 +31,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import ConfigError
 from ..ranges import check_ranges, ranged
-from .sim import pybullet as _pybullet
+from ..sim import pybullet as _pybullet
 
 ARMS = {"left": 1.0, "right": -1.0}  # arm -> side of the world y axis it stands on
 ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
@@ -57,7 +58,7 @@ STAND_RGBA = (0.55, 0.57, 0.60, 1.0)
 DEFAULT_IK_CALLS = 40
 
 
-class RobotSpecError(ValueError):
+class RobotSpecError(ConfigError):
     """A robot setting outside its valid range; the message is one line."""
 
 

@@ -18,13 +18,13 @@ from typing import NamedTuple
 import numpy as np
 
 from ..frames import worker_to_world
+from ..sim import connect_direct
+from ..sim import pybullet as _pybullet
 from ..twin.anthropometry import BodySpec
 from ..twin.task import TaskSpec
 from ..twin.urdf import load_worker
 from .box import HANDLE_RADIUS, load_box
 from .robot import ARMS, GRASPS, DualArmRobot, Reach, RobotSpec
-from .sim import connect_direct
-from .sim import pybullet as _pybullet
 
 CARRY_SPACING = 0.05  # distance between samples along a carry [m]
 # Largest joint motion between two carry samples [rad]: at 5 cm spacing, 0.5 rad is ten

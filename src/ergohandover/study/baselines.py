@@ -17,11 +17,12 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from ..landscape.stats import minimisers, most_symmetric
-from ..landscape.sweep import Landscape
+from ..errors import ConfigError
+from ..landscape.cache import Landscape
+from ..landscape.stats import optimum
 from ..scene.robot import Reach, RobotSpec
 from ..scene.world import CARRY_SPACING, Carry, WorkerPosture, World
-from ..twin.evaluate import Evaluator, evaluate, posture_solver
+from ..twin.evaluate import JOINT_PREFIX, Evaluator, evaluate, joint_angles, posture_solver
 from ..twin.task import Boundary
 
 # The paper's five start points (worker frame [m]) and its postural scores at the optimised
@@ -46,7 +47,7 @@ def shortest_distance(start: np.ndarray, boundary: Boundary) -> np.ndarray:
     """
     start = np.asarray(start, dtype=float)
     if start.shape[-1] != 3 or not np.isfinite(start).all():
-        raise ValueError(f"start must be finite points of shape (..., 3), got {start!r}")
+        raise ConfigError(f"start must be finite points of shape (..., 3), got {start!r}")
     # Per axis, the nearest value of an interval is the clipped one, and the squared distance
     # is a sum over axes, so clipping each axis minimises it.
     return np.clip(start, boundary.lower, boundary.upper)
@@ -58,11 +59,7 @@ def optimised(landscape: Landscape, score: str = "paper_postural") -> np.ndarray
     Returns:
         (3,) worker frame [m].
     """
-    if score not in landscape.arrays:
-        raise ValueError(f"score = {score!r} is not in the landscape (has "
-                         f"{', '.join(sorted(landscape.arrays))})")
-    points = landscape.grid.coordinates(minimisers(landscape, score))
-    return points[most_symmetric(points)]
+    return optimum(landscape, score)[1]
 
 
 def paper_result(start: np.ndarray, method: str) -> float:
@@ -113,10 +110,12 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
              else shortest_distance(start, landscape.grid.boundary))
             for start in starts for method in METHODS]
     locations = np.array([loc for _, _, loc in rows])
+    # One solve per location: the table's scores and the posture the scene shows.
     scores = evaluate(locations, evaluator.body, evaluator.task, evaluator.solver,
-                      evaluator.settings, evaluator.scoring)
-    solver = posture_solver(evaluator)
-    postures = [WorkerPosture(solver.model.joint_names, q) for q in solver.solve(locations).q]
+                      evaluator.settings, evaluator.scoring, joints=True)
+    names = posture_solver(evaluator).model.joint_names
+    postures = [WorkerPosture(names, q) for q in joint_angles(scores)]
+    scores = scores.drop(columns=[c for c in scores.columns if c.startswith(JOINT_PREFIX)])
     carries, handovers = [], []
     with World(evaluator.body, evaluator.task, robot) as world:
         for (start, _, location), posture in zip(rows, postures, strict=True):

@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..landscape.sweep import Landscape
+from ..ergonomics import OBJECTIVES
+from ..landscape.cache import Landscape
 from ..twin.anthropometry import BodySpec
 from ..twin.evaluate import evaluate
 from ..twin.task import TaskSpec
@@ -23,7 +24,7 @@ WORKERS = ("p5-female", "p50-female", "p95-female", "p5-male", "p50-male", "p95-
 DEFAULT_WORKER = "p50-male"
 # The VR study's start points (worker frame, m): aligned with the worker, and 1 m to its left.
 VR_STARTS = {"aligned": (0.0, 1.122, 1.354), "offset-left": (-1.0, 1.122, 1.354)}
-SCORES = ("paper_postural", "reba", "reba_ab", "rula")
+
 
 
 def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = None,
@@ -41,7 +42,7 @@ def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = 
 
     Returns:
         One row per worker and location: ``worker, stature_m, location, start, x, y, z,
-        feasible, reason`` and the scores of :data:`SCORES` (<NA> where infeasible).
+        feasible, reason`` and the scores of :data:`OBJECTIVES` (<NA> where infeasible).
     """
     task = task or TaskSpec()
     deployed = optimised(landscapes[default], score)
@@ -58,8 +59,8 @@ def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = 
             rows.append({"worker": name, "stature_m": body.stature_m, "location": location,
                          "start": start, "x": point[0], "y": point[1], "z": point[2],
                          "feasible": int(row["feasible"]), "reason": row["reason"],
-                         **{s: row[s] for s in SCORES}})
+                         **{s: row[s] for s in OBJECTIVES}})
     frame = pd.DataFrame(rows)
-    for s in SCORES:
+    for s in OBJECTIVES:
         frame[s] = frame[s].astype("Int8")
     return frame

@@ -12,12 +12,16 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from .manifest import write_manifest
+from ..io.manifest import write_manifest
 
 
 def config_hash(config: dict[str, Any]) -> str:
-    """A short hash of a part's configuration and the package version."""
-    text = json.dumps({"config": config, "version": __version__}, sort_keys=True)
+    """A short hash of a part's configuration, the package version and the twin's code (so that
+    a change to the model reruns every part: results change when the twin changes)."""
+    from ..landscape.cache import twin_code_version
+
+    text = json.dumps({"config": config, "version": __version__,
+                       "code": twin_code_version()}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -29,20 +33,17 @@ def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
 
 
 def is_done(folder: Path, config: dict[str, Any]) -> bool:
-    """True when ``folder`` holds a finished part made with this configuration, with every
-    file later parts need (``required_files`` of its manifest; e.g. the landscape, which is
-    not committed, so a fresh clone sweeps it again)."""
+    """True when ``folder`` holds a finished part made with this configuration and code."""
     try:
         manifest = json.loads((folder / "manifest.json").read_text())
     except (OSError, ValueError):
         return False
-    present = all((folder / name).exists() for name in manifest.get("required_files", []))
-    return present and manifest.get("part_hash") == config_hash(config)
+    return manifest.get("part_hash") == config_hash(config)
 
 
 def run_part(name: str, folder: Path, config: dict[str, Any],
              work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
-             force: bool = False, required_files: tuple[str, ...] = ()) -> bool:
+             force: bool = False) -> bool:
     """Run ``work(folder)`` unless the part is already done; then write its manifest.
 
     Args:
@@ -52,8 +53,6 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
         work: does the part; may return extra figures for the manifest.
         seeds: every seed used.
         force: run even if done.
-        required_files: files in ``folder`` that later parts read; the part is not done
-            without them.
 
     Returns:
         True if the part ran, False if it was reused.
@@ -67,8 +66,7 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
     extra = work(folder) or {}
     write_manifest(folder, config={"part": name, **config}, seeds=seeds or {},
                    wall_time_s=time.perf_counter() - start,
-                   extra={"part_hash": config_hash(config),
-                          "required_files": list(required_files), **extra})
+                   extra={"part_hash": config_hash(config), **extra})
     return True
 
 

@@ -20,12 +20,14 @@ import numbers
 from dataclasses import dataclass
 from statistics import NormalDist
 
+from ..errors import ConfigError
+
 STATURE_RANGE_M = (1.40, 2.10)
 MASS_RANGE_KG = (35.0, 160.0)
 SEXES = ("male", "female")
 
 
-class BodySpecError(ValueError):
+class BodySpecError(ConfigError):
     """A body specification is outside what the model supports; the message is one line."""
 
 

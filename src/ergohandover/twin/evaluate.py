@@ -1,23 +1,27 @@
 """``evaluate(locations)``: what happens to the worker if the box is at (x, y, z)?
 
-The one function every sweep, environment, baseline and experiment calls. For each box location
-(worker frame, metres) the twin's posture is solved, checked for feasibility, turned into the
+The one evaluation path: the sweep, the environment's online scores, the baselines, the
+participants and every command call :func:`evaluate_arrays` (compact columns, any number of
+worker processes) or :func:`evaluate` (the Evaluation table). For each box location (worker
+frame, metres) the twin's posture is solved once, checked for feasibility, turned into the
 Posture columns and scored with REBA, RULA and the paper's postural score.
 
 Batched, deterministic and order-independent: a location's row never depends on the other
-locations in the call, on the chunking, or on what was evaluated before.
+locations in the call, on the chunking, on the number of workers, or on what was evaluated
+before.
 """
 
 from __future__ import annotations
 
-import multiprocessing
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from ..ergonomics import POSTURE_COLUMNS, SCORE_COLUMNS, Posture, ScoringSettings, score_postures
+from ..errors import ConfigError
+from ..executor import LocalExecutor
 from .angles import posture_columns
 from .anthropometry import BodySpec
 from .collision import BodyProbes
@@ -33,9 +37,12 @@ Compact files store them as bits of a ``flags`` byte, in this order (bit 0 = han
 EVALUATION_COLUMNS = ("x", "y", "z", "feasible", "reason", "hand_error_m", *POSTURE_COLUMNS,
                       *SCORE_COLUMNS)
 CHUNK = 500  # locations per solver call: small enough to stay in cache
+JOINT_PREFIX = "q_"
+"""Joint-angle columns (``q_<joint>`` [rad], one per movable joint of the twin) that
+:func:`evaluate_batch` adds: the solved posture, for pictures and the robot scene."""
 
 
-class EvaluationError(ValueError):
+class EvaluationError(ConfigError):
     """Locations that cannot be evaluated; the message is one line."""
 
 
@@ -72,11 +79,23 @@ def posture_solver(evaluator: Evaluator):
     return _SOLVERS[evaluator]
 
 
-def _evaluate_chunk(evaluator: Evaluator, locations: np.ndarray) -> dict[str, np.ndarray]:
+def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
+                   columns: Iterable[str] | None = None) -> dict[str, np.ndarray]:
+    """Evaluate one batch of locations in this process.
+
+    Args:
+        evaluator: body, task, solver and scoring settings.
+        locations: (N, 3) box centres, worker frame [m].
+        columns: the columns to return (default: all of them).
+
+    Returns:
+        Column name -> (N,) array: :data:`EVALUATION_COLUMNS` (scores as computed, also where
+        infeasible), ``flags`` (uint8 bit mask of :data:`REASONS`, 0 = feasible) and the
+        joint angles ``q_<joint>`` [rad].
+    """
     solver = posture_solver(evaluator)
     solution = solver.solve(locations)
     st = solution.state
-    columns = posture_columns(st, evaluator.task)
     task = evaluator.task
     centre = solver.targets(locations).box
     half = np.array([task.box_depth, task.box_width, task.box_height]) / 2.0  # world x, y, z
@@ -94,21 +113,71 @@ def _evaluate_chunk(evaluator: Evaluator, locations: np.ndarray) -> dict[str, np
         flags |= problems[name].astype(np.uint8) << bit
         reason = np.where(problems[name], np.where(reason == "", name, reason + ";" + name),
                           reason)
-    scores = score_postures(Posture(columns), evaluator.scoring)
-    return {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
-            "feasible": flags == 0, "reason": reason, "hand_error_m": solution.hand_error,
-            "flags": flags, **columns, **scores}
+    posture = posture_columns(st, task)
+    scores = score_postures(Posture(posture), evaluator.scoring)
+    joints = {JOINT_PREFIX + name: solution.q[:, i]
+              for i, name in enumerate(solver.model.joint_names)}
+    out = {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
+           "feasible": flags == 0, "reason": reason, "hand_error_m": solution.hand_error,
+           "flags": flags, **posture, **scores, **joints}
+    return out if columns is None else {c: out[c] for c in columns}
 
 
-def _run(args):
-    return _evaluate_chunk(*args)
+def _batch_job(job: tuple) -> dict[str, np.ndarray]:
+    return evaluate_batch(*job)
+
+
+def check_locations(locations) -> np.ndarray:
+    """(N, 3) finite float locations; a one-line EvaluationError otherwise."""
+    locations = np.asarray(locations, dtype=float)
+    if locations.ndim != 2 or locations.shape[1] != 3:
+        raise EvaluationError(f"locations must have shape (N, 3), got {locations.shape}")
+    if not np.isfinite(locations).all():
+        row = int(np.flatnonzero(~np.isfinite(locations).all(axis=1))[0])
+        raise EvaluationError(f"location row {row + 1} is not finite: {locations[row]}")
+    return locations
+
+
+def evaluate_arrays(locations: np.ndarray, evaluator: Evaluator | None = None, workers: int = 1,
+                    progress: Callable[[int], None] | None = None,
+                    columns: Iterable[str] | None = None,
+                    executor: LocalExecutor | None = None) -> dict[str, np.ndarray]:
+    """Evaluate locations in chunks of :data:`CHUNK`, in this process or over worker processes.
+
+    Args:
+        locations: (N, 3) box centres, worker frame [m].
+        evaluator: body, task, solver and scoring settings (default: all defaults).
+        workers: processes (1 = this process); ignored when ``executor`` is given.
+        progress: called with the number of locations finished after each chunk.
+        columns: the columns to keep (see :func:`evaluate_batch`); only these travel back from
+            the worker processes.
+        executor: an open :class:`~ergohandover.executor.LocalExecutor` to reuse.
+
+    Returns:
+        Column name -> (N,) array, as :func:`evaluate_batch`, in the order of ``locations``.
+    """
+    locations = check_locations(locations)
+    evaluator = evaluator or Evaluator()
+    columns = None if columns is None else tuple(columns)
+    posture_solver(evaluator)  # prepared before any worker process forks
+    jobs = [(evaluator, locations[a:a + CHUNK], columns)
+            for a in range(0, len(locations), CHUNK)]
+    parts = []
+    for part in (executor or LocalExecutor(workers)).map(_batch_job, jobs):
+        parts.append(part)
+        if progress:
+            progress(len(next(iter(part.values()))))
+    if not parts:  # no locations: the columns, empty, with their dtypes
+        return {c: v[:0] for c, v in evaluate_batch(evaluator, np.zeros((1, 3)), columns).items()}
+    return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 
 def evaluate(locations: np.ndarray, body: BodySpec | None = None, task: TaskSpec | None = None,
              solver: str = "numpy", settings: SolverSettings | None = None,
              scoring: ScoringSettings | None = None, workers: int = 1,
-             progress: Callable[[int], None] | None = None) -> pd.DataFrame:
-    """Evaluate box locations: posture, feasibility and every score.
+             progress: Callable[[int], None] | None = None,
+             joints: bool = False) -> pd.DataFrame:
+    """Evaluate box locations: posture, feasibility and every score, as a table.
 
     Args:
         locations: (N, 3) box centres in the worker frame [m].
@@ -119,40 +188,27 @@ def evaluate(locations: np.ndarray, body: BodySpec | None = None, task: TaskSpec
         scoring: REBA/RULA settings.
         workers: processes to spread the chunks over (1 = this process).
         progress: called with the number of locations finished after each chunk.
+        joints: also return the solved joint angles, ``q_<joint>`` columns [rad].
 
     Returns:
-        One row per location, columns :data:`EVALUATION_COLUMNS` (DESIGN.md's Evaluation CSV).
-        Score columns are empty (<NA>) where the location is infeasible: such a location is
-        never scored as if the worker could take it.
+        One row per location, columns :data:`EVALUATION_COLUMNS` (DESIGN.md's Evaluation CSV),
+        then the joint columns if asked for. Score columns are empty (<NA>) where the location
+        is infeasible: such a location is never scored as if the worker could take it.
     """
-    locations = np.asarray(locations, dtype=float)
-    if locations.ndim != 2 or locations.shape[1] != 3:
-        raise EvaluationError(f"locations must have shape (N, 3), got {locations.shape}")
-    if not np.isfinite(locations).all():
-        row = int(np.flatnonzero(~np.isfinite(locations).all(axis=1))[0])
-        raise EvaluationError(f"location row {row + 1} is not finite: {locations[row]}")
     evaluator = Evaluator(body or BodySpec(), task or TaskSpec(), solver,
                           settings or SolverSettings(), scoring or ScoringSettings())
-    posture_solver(evaluator)
-    jobs = [(evaluator, locations[a:a + CHUNK]) for a in range(0, len(locations), CHUNK)]
-    parts = []
-    if workers > 1 and len(jobs) > 1:
-        with multiprocessing.get_context("fork").Pool(workers) as pool:
-            for part in pool.imap(_run, jobs):
-                parts.append(part)
-                if progress:
-                    progress(len(part["x"]))
-    else:
-        for job in jobs:
-            parts.append(_run(job))
-            if progress:
-                progress(len(parts[-1]["x"]))
-    if not parts:
-        return pd.DataFrame({c: [] for c in EVALUATION_COLUMNS})
-    frame = pd.DataFrame({c: np.concatenate([p[c] for p in parts]) for c in EVALUATION_COLUMNS})
+    arrays = evaluate_arrays(locations, evaluator, workers, progress)
+    names = [*EVALUATION_COLUMNS,
+             *(c for c in arrays if joints and c.startswith(JOINT_PREFIX))]
+    frame = pd.DataFrame({c: arrays[c] for c in names})
     infeasible = ~frame["feasible"].to_numpy()
     for c in SCORE_COLUMNS:
         frame[c] = frame[c].astype("Int8")
         frame.loc[infeasible, c] = pd.NA
     frame["feasible"] = frame["feasible"].astype(np.int8)
     return frame
+
+
+def joint_angles(table: pd.DataFrame) -> np.ndarray:
+    """(N, nq) joint angles [rad]: the ``q_<joint>`` columns of ``evaluate(..., joints=True)``."""
+    return table[[c for c in table.columns if c.startswith(JOINT_PREFIX)]].to_numpy(float)

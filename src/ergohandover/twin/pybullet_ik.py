@@ -14,8 +14,8 @@ import os
 
 import numpy as np
 
-from ..scene.sim import connect_direct
-from ..scene.sim import pybullet as _pybullet
+from ..sim import connect_direct
+from ..sim import pybullet as _pybullet
 from .anthropometry import BodySpec
 from .kinematics import KinematicModel
 from .skeleton import build_skeleton

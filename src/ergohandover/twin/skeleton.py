@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..errors import ModelError, UnknownNameError
 from .anthropometry import BodySpec
 
 Vec3 = tuple[float, float, float]
@@ -97,7 +98,7 @@ class Skeleton:
         """Index links and joints by name (their names share one namespace)."""
         by_name = {item.name: item for item in (*self.links, *self.joints)}
         if len(by_name) != len(self.links) + len(self.joints):
-            raise ValueError("link and joint names must be unique")
+            raise ModelError("link and joint names must be unique")
         object.__setattr__(self, "_by_name", by_name)
 
     @property
@@ -109,14 +110,14 @@ class Skeleton:
         """The link called ``name`` (KeyError if there is none)."""
         item = self._by_name[name]
         if not isinstance(item, Link):
-            raise KeyError(f"{name!r} is a joint, not a link")
+            raise UnknownNameError(f"{name!r} is a joint, not a link")
         return item
 
     def joint(self, name: str) -> Joint:
         """The joint called ``name`` (KeyError if there is none)."""
         item = self._by_name[name]
         if not isinstance(item, Joint):
-            raise KeyError(f"{name!r} is a link, not a joint")
+            raise UnknownNameError(f"{name!r} is a link, not a joint")
         return item
 
 

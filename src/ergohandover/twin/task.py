@@ -12,11 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ConfigError
 from ..ranges import check_ranges, ranged
 from .anthropometry import BodySpec
 
 
-class TaskSpecError(ValueError):
+class TaskSpecError(ConfigError):
     """A task setting outside its valid range; the message is one line."""
 
 

@@ -13,6 +13,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from ..errors import ModelError
 from ..io.atomic import atomic_write
 from .anthropometry import BodySpec
 from .skeleton import Joint, Link, Shape, build_skeleton
@@ -177,7 +178,7 @@ def load_worker(
         The body id, joint name -> joint index and link name -> link index, read back from
         PyBullet by name (PyBullet numbers joints in its own tree order).
     """
-    from ..scene.sim import pybullet as _pybullet
+    from ..sim import pybullet as _pybullet
 
     pybullet = _pybullet()  # imported here, quietly: URDF-only users need no simulator
 
@@ -191,7 +192,7 @@ def load_worker(
         "loadURDF", str(path), useFixedBase=True, flags=pybullet.URDF_USE_INERTIA_FROM_FILE
     )
     if body_id < 0:
-        raise RuntimeError(f"PyBullet could not load {path}")
+        raise ModelError(f"PyBullet could not load {path}")
     joints, links = {}, {"feet": -1}
     for i in range(call("getNumJoints", body_id)):
         info = call("getJointInfo", body_id, i)

@@ -12,7 +12,8 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from ..io.atomic import atomic_write
+from ..errors import SerialisationError
+from .atomic import atomic_write
 
 PACKAGES = ("ergohandover", "numpy", "pandas", "pybullet", "gymnasium", "stable-baselines3",
             "torch", "seaborn", "tqdm")
@@ -52,7 +53,7 @@ def _jsonable(value: Any) -> Any:
         return dataclasses.asdict(value)
     if isinstance(value, Path):
         return str(value)
-    raise TypeError(f"not JSON-serialisable: {type(value).__name__}")
+    raise SerialisationError(f"not JSON-serialisable: {type(value).__name__}")
 
 
 def write_manifest(result: str | os.PathLike, config: dict[str, Any], seeds: dict[str, int],
