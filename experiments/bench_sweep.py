@@ -3,8 +3,9 @@ whole process tree (the sweep and its worker processes) sampled from /proc.
 
 Usage: python experiments/bench_sweep.py [--boundary paper-code] [--step 0.003] [--keep]
 
-Runs ``ergohandover sweep`` into a temporary directory (so nothing cached is reused) and prints
-the wall time, points/s and peak resident memory. A figure, not a test.
+Runs ``ergohandover sweep`` with an empty landscape cache in a temporary directory (so nothing
+cached is reused) and prints the wall time, points/s and peak resident memory. A figure, not a
+test.
 """
 
 from __future__ import annotations
@@ -46,17 +47,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--boundary", default="paper-code")
     parser.add_argument("--step", default="0.003")
-    parser.add_argument("--keep", type=Path, help="write the landscape here instead of a "
-                        "temporary directory")
+    parser.add_argument("--keep", type=Path, help="keep the cache and statistics here instead "
+                        "of a temporary directory")
     args = parser.parse_args()
     folder = args.keep or Path(tempfile.mkdtemp(prefix="ergohandover_bench_"))
-    output = folder / "landscape.npz"
-    command = [sys.executable, "-m", "ergohandover.cli", "sweep", f"--boundary={args.boundary}",
-               "--step", args.step, "--output", str(output)]
+    command = [sys.executable, "-m", "ergohandover.cli", "sweep", "--boundary", args.boundary,
+               "--step", args.step, "--output", str(folder / "stats")]
+    env = {**os.environ, "ERGOHANDOVER_CACHE": str(folder / "cache")}
     log = folder / "sweep.log"  # a file, not a pipe: the progress bar would fill a pipe
     start = time.perf_counter()
     with log.open("w") as sink:
-        proc = subprocess.Popen(command, stderr=sink, stdout=subprocess.DEVNULL)
+        proc = subprocess.Popen(command, stderr=sink, stdout=subprocess.DEVNULL, env=env)
         peak = 0
         while proc.poll() is None:
             peak = max(peak, tree_rss_kb(proc.pid))

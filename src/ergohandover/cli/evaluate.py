@@ -44,8 +44,8 @@ def add_parser(subparsers) -> None:
                         "(default: runs/evaluate/<timestamp>/evaluation.csv)")
     add_body_arguments(parser)
     parser.add_argument("--solver", choices=SOLVERS, default="numpy",
-                        help="numpy: whole-body solver (balance, gaze, palms); pybullet: "
-                        "PyBullet's IK on the hands only (default: numpy)")
+                        help="numpy: the whole-body solver (balance, gaze, palms; compiled); "
+                        "pybullet: PyBullet's IK on the hands only (default: numpy)")
     parser.add_argument("--render", metavar="DIR", type=Path,
                         help="also write one PNG per point into DIR (created if needed)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,

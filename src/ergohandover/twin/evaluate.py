@@ -66,7 +66,9 @@ _SOLVERS: dict[Evaluator, PostureSolver] = {}
 
 
 def posture_solver(evaluator: Evaluator):
-    """The (cached) solver of an evaluator; the numpy solver's lattice is solved here."""
+    """The (cached) solver of an evaluator. The whole-body solver's kernel is compiled (or
+    loaded from numba's disk cache) and its warm-start lattice solved here, once, so that
+    worker processes forked afterwards share both."""
     if evaluator not in _SOLVERS:
         if evaluator.solver == "numpy":
             solver = PostureSolver(evaluator.body, evaluator.task, evaluator.settings)
@@ -183,7 +185,8 @@ def evaluate(locations: np.ndarray, body: BodySpec | None = None, task: TaskSpec
         locations: (N, 3) box centres in the worker frame [m].
         body: the worker (default: ANSUR II 50th-percentile man).
         task: the box and handles (default: :class:`TaskSpec`).
-        solver: ``numpy`` (the whole-body solver) or ``pybullet`` (PyBullet's IK on the hands).
+        solver: ``numpy`` (the whole-body solver; the name is historical: it runs compiled) or
+            ``pybullet`` (PyBullet's IK on the hands).
         settings: posture-solver weights.
         scoring: REBA/RULA settings.
         workers: processes to spread the chunks over (1 = this process).

@@ -24,7 +24,7 @@ ExtraMasses = Mapping[str, "float | np.ndarray"]
 """Point masses at link origins: link name -> mass [kg], a float or (N,)."""
 
 
-class _Step(NamedTuple):
+class JointStep(NamedTuple):
     """One joint, precompiled: ``origin`` as (component, value) pairs, axis = sign × e_axis."""
 
     parent: int
@@ -68,6 +68,9 @@ class KinematicModel:
         lower, upper: (nq,) joint limits [rad].
         link_mass: (L,) link masses [kg]; ``total_mass`` is their sum [kg].
         ancestors: (L, nq) bool, True where joint j moves link l.
+        steps: the joints in tree order as :class:`JointStep` (what the compiled solver packs).
+        mass_points: (link index, COM offset as (component, value) pairs) of each link with
+            mass.
     """
 
     def __init__(self, skeleton: Skeleton) -> None:
@@ -81,9 +84,10 @@ class KinematicModel:
         self.upper = np.array([j.upper for j in movable])  # (nq,)
         self.link_mass = np.array([link.mass for link in skeleton.links])  # (L,)
         self.total_mass = float(self.link_mass.sum())
-        self._coms = [(i, _sparse(link.com)) for i, link in enumerate(skeleton.links) if link.mass]
+        self.mass_points = [(i, _sparse(link.com))
+                            for i, link in enumerate(skeleton.links) if link.mass]
         self.ancestors = np.zeros((len(self.link_names), len(movable)), dtype=bool)
-        self._steps: list[_Step] = []
+        self.steps: list[JointStep] = []
         for joint in skeleton.joints:
             parent, child = self._link[joint.parent], self._link[joint.child]
             col = self._joint.get(joint.name, -1)
@@ -96,8 +100,8 @@ class KinematicModel:
                 if not np.array_equal(np.abs(joint.axis), np.eye(3)[axis]):
                     raise ValueError(f"{joint.name}: axis {joint.axis} is not ± a coordinate axis")
             sign = float(np.sign(joint.axis[axis]))
-            self._steps.append(_Step(parent, child, _sparse(joint.origin), col, axis, sign))
-        self._signs = np.array([st.sign for st in self._steps if st.col >= 0])  # (nq,)
+            self.steps.append(JointStep(parent, child, _sparse(joint.origin), col, axis, sign))
+        self._signs = np.array([st.sign for st in self.steps if st.col >= 0])  # (nq,)
 
     @property
     def nq(self) -> int:
@@ -133,7 +137,7 @@ class KinematicModel:
         pos[0], rot[0] = 0.0, np.eye(3)[:, :, None]  # the base sits at the world origin
         axes = np.empty((self.nq, 3, n))  # world joint axes
         scratch = np.empty((3, n))
-        for st in self._steps:
+        for st in self.steps:
             r = rot[st.parent]  # (3, 3, N); r[:, i] is the parent's i axis in the world
             pos[st.child] = pos[st.parent]
             _add_times(pos[st.child], r, st.origin, scratch)
@@ -179,7 +183,7 @@ class KinematicState:
         self.model, self.q = model, q  # q: (N, nq) [rad]
         self._pos, self._rot, self._axes = pos, rot, axes  # (L, 3, N), (L, 3, 3, N), (nq, 3, N)
         # A joint sits on its child's origin.
-        self._joint_pos = pos[[st.child for st in model._steps if st.col >= 0]]  # (nq, 3, N)
+        self._joint_pos = pos[[st.child for st in model.steps if st.col >= 0]]  # (nq, 3, N)
 
     @property
     def positions(self) -> np.ndarray:
@@ -240,12 +244,12 @@ class KinematicState:
         One entry per link with mass (at its COM), then one per extra mass (at its link origin).
         """
         n, extra = self.q.shape[0], extra or {}
-        links = [i for i, _ in self.model._coms] + [self.model.link_index(e) for e in extra]
-        mass = [np.full(n, self.model.link_mass[i]) for i, _ in self.model._coms]
+        links = [i for i, _ in self.model.mass_points] + [self.model.link_index(e) for e in extra]
+        mass = [np.full(n, self.model.link_mass[i]) for i, _ in self.model.mass_points]
         mass += [np.broadcast_to(np.asarray(m, dtype=float), (n,)) for m in extra.values()]
         where = self._pos[links]  # (P, 3, N) copy; link COMs get their offsets added
         scratch = np.empty((3, n))
-        for p, (i, com) in enumerate(self.model._coms):
+        for p, (i, com) in enumerate(self.model.mass_points):
             _add_times(where[p], self._rot[i], com, scratch)
         return np.array(mass), where, links
 

@@ -18,6 +18,10 @@ oscillate. Joint limits hold by projection; a joint held at a limit sits out the
 location starts from :mod:`~ergohandover.warm_start`'s interpolated lattice and runs a fixed
 number of iterations with per-location arithmetic, so its posture never depends on the rest of
 the batch (deterministic and order-independent).
+
+Two backends compute the same iteration: ``numba`` (default, :mod:`.kernel`: one location at a
+time, compiled; a converged location stops early) and ``numpy`` (batched over locations, here;
+the reference the kernel is tested against). They agree to rounding on converged locations.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import ConfigError
 from ..frames import worker_to_world
 from .anthropometry import BodySpec
 from .kinematics import KinematicModel, KinematicState
@@ -62,6 +67,7 @@ JOINT_PREFERENCE: dict[str, tuple[float, float]] = {
 }
 # Where the lattice's solves start: standing, upper arms slightly forward, forearms forward.
 START_POSTURE_DEG = {"shoulder_flexion": 20.0, "elbow_flexion": 80.0}
+BACKENDS = ("numba", "numpy")
 SIGHT_PITCH_DEG = 15.0  # natural line of sight below the head's horizontal (Grandjean)
 EYE_CONE_DEG = 25.0  # eye rotation from the natural line of sight held without strain
 
@@ -123,10 +129,14 @@ class PostureSolver:
         body: the worker.
         task: the box and its handles.
         settings: solver weights and budget.
+        backend: ``numba`` (compiled, per location) or ``numpy`` (batched reference).
     """
 
     def __init__(self, body: BodySpec | None = None, task: TaskSpec | None = None,
-                 settings: SolverSettings | None = None):
+                 settings: SolverSettings | None = None, backend: str = "numba"):
+        if backend not in BACKENDS:
+            raise ConfigError(f"backend = {backend!r} is not allowed (use 'numba' or 'numpy')")
+        self.backend = backend
         self.body = body or BodySpec()
         self.task = task or TaskSpec()
         self.settings = settings or SolverSettings()
@@ -141,6 +151,7 @@ class PostureSolver:
         self.sight = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])  # gaze-link frame
         self.eye_cone = np.radians(EYE_CONE_DEG)
         self._lattice: StartLattice | None = None
+        self._packed = None  # the kernel's arrays, built on first use
 
     @property
     def lattice(self) -> StartLattice:
@@ -163,6 +174,20 @@ class PostureSolver:
 
     def iterate(self, locations: np.ndarray, start: np.ndarray, iterations: int) -> Solution:
         """Run ``iterations`` Levenberg-Marquardt steps from ``start`` (N, nq) [rad]."""
+        if self.backend == "numpy":
+            return self.iterate_numpy(locations, start, iterations)
+        if self._packed is None:
+            from .kernel import PackedSolver  # numba loads (and compiles) on first use only
+
+            self._packed = PackedSolver(self)
+        targets = self.targets(locations)
+        q, pos, rot, axes, error, com, _ = self._packed.run(
+            np.stack(targets, axis=1), start, iterations)
+        return Solution(q, error, com, KinematicState(self.model, q, pos, rot, axes))
+
+    def iterate_numpy(self, locations: np.ndarray, start: np.ndarray,
+                      iterations: int) -> Solution:
+        """:meth:`iterate` batched in numpy: the reference implementation."""
         s = self.settings
         targets = self.targets(locations)
         half = self.task.box_mass_kg / 2.0
