@@ -36,7 +36,7 @@ intersects the torso, head or legs; the centre of mass (box included) leaves the
 Compact files store them as bits of a ``flags`` byte, in this order (bit 0 = hand_miss)."""
 EVALUATION_COLUMNS = ("x", "y", "z", "feasible", "reason", "hand_error_m", *POSTURE_COLUMNS,
                       *SCORE_COLUMNS)
-CHUNK = 500  # locations per solver call: small enough to stay in cache
+CHUNK = 500  # locations per call: small arrays for the numpy stages, frequent progress
 JOINT_PREFIX = "q_"
 """Joint-angle columns (``q_<joint>`` [rad], one per movable joint of the twin) that
 :func:`evaluate_batch` adds: the solved posture, for pictures and the robot scene."""
@@ -110,19 +110,25 @@ def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
                         & (com[:, 1] <= y1)),
     }
     flags = np.zeros(len(locations), dtype=np.uint8)
-    reason = np.full(len(locations), "", dtype=object)
     for bit, name in enumerate(REASONS):
         flags |= problems[name].astype(np.uint8) << bit
-        reason = np.where(problems[name], np.where(reason == "", name, reason + ";" + name),
-                          reason)
     posture = posture_columns(st, task)
     scores = score_postures(Posture(posture), evaluator.scoring)
     joints = {JOINT_PREFIX + name: solution.q[:, i]
               for i, name in enumerate(solver.model.joint_names)}
     out = {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
-           "feasible": flags == 0, "reason": reason, "hand_error_m": solution.hand_error,
+           "feasible": flags == 0, "hand_error_m": solution.hand_error,
            "flags": flags, **posture, **scores, **joints}
+    if columns is None or "reason" in columns:  # strings: only for those who ask
+        out["reason"] = reason_text(flags)
     return out if columns is None else {c: out[c] for c in columns}
+
+
+def reason_text(flags: np.ndarray) -> np.ndarray:
+    """(N,) object array: the names of the set bits of ``flags`` joined by ``;`` ("" if 0)."""
+    names = [";".join(n for bit, n in enumerate(REASONS) if code >> bit & 1)
+             for code in range(1 << len(REASONS))]
+    return np.array(names, dtype=object)[flags]
 
 
 def _batch_job(job: tuple) -> dict[str, np.ndarray]:
