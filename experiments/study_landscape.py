@@ -4,7 +4,7 @@ evaluation of every grid point), its statistics and score distribution.
 Usage: python experiments/study_landscape.py [--config experiments/configs/default.json]
 
 Writes results/landscape/: stats.csv, distribution.csv, manifest.json (with the landscape's
-key). The landscape itself (105 MB) goes to the landscape cache, shared with every command and
+key). The landscape itself (160 MB) goes to the landscape cache, shared with every command and
 later part; a part that needs it and finds the cache empty (a fresh clone) sweeps it again.
 """
 

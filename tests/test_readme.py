@@ -61,3 +61,21 @@ def test_readme_baseline_table_is_the_committed_result():
         assert cells[5] == f"{int(opt['rula'])} / {int(short['rula'])}"
         robot = "yes" if opt["robot_feasible"] else "no"
         assert cells[6].startswith(robot)
+
+
+def test_readme_landscape_table_is_the_committed_result():
+    stats = pd.read_csv(ROOT / "results" / "landscape" / "stats.csv").set_index("score")
+    header = README.split("**The landscape** of the default worker and box")[1]
+    first = stats.iloc[0]
+    assert header.startswith(f" (N = {int(first['feasible']):,} feasible points, "
+                             f"{first['feasible_fraction']:.1%})")
+    block = header.split("| score | minimum |")[1].split("\n\n")[0]
+    rows = [[c.strip() for c in line.strip("|").split("|")]
+            for line in block.splitlines()[2:]]
+    assert [r[0] for r in rows] == ["paper_postural", "reba", "reba_ab", "rula"]
+    for name, minimum, count, share, best in rows:
+        row = stats.loc[name]
+        assert int(minimum) == row["min"] and int(count.replace(",", "")) == row["n_at_min"]
+        digits = 2 if row["fraction_at_min"] < 0.1 else 1
+        assert share == f"{row['fraction_at_min']:.{digits}%}", name
+        assert best == f"({row['best_x']:.3f}, {row['best_y']:.3f}, {row['best_z']:.3f})"
