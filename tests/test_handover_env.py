@@ -172,3 +172,16 @@ def test_online_and_landscape_envs_walk_identically(small_landscape):
         env.reset(seed=5)
         runs.append([env.step(a)[1:] for a in np.random.default_rng(1).integers(6, size=60)])
     assert runs[0] == runs[1]
+
+
+def test_importing_the_env_package_registers_the_env(tmp_path):
+    """As Gymnasium environment packages do: ``import ergohandover.envs`` is enough."""
+    path = tmp_path / "bowl.npz"
+    bowl_landscape().save(path)
+    code = ("import gymnasium, ergohandover.envs\n"
+            f"env = gymnasium.make('ergohandover/Handover-v0', landscape={str(path)!r})\n"
+            "obs, info = env.reset(seed=0)\n"
+            "print(env.spec.max_episode_steps, info['score'] >= 5)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split()
+    assert out == [str(EPISODE_STEPS), "True"]
