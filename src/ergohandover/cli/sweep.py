@@ -66,6 +66,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     landscape, reused = sweep(grid, evaluator, workers=args.workers)
     elapsed = time.perf_counter() - start
+    rate = None
     if reused:
         print(f"reusing {landscape_path(key)} (same body, task, boundary, step, settings and "
               "model code)", file=sys.stderr)
@@ -80,9 +81,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                                    "grid": dataclasses.asdict(grid), "key": key},
                    seeds={}, wall_time_s=elapsed,
                    extra={"landscape": str(landscape_path(key)), "reused": reused,
-                          "points_per_s": None if reused else round(
-                              landscape.meta["points_computed"]
-                              / max(landscape.meta["seconds"], 1e-9), 1),
+                          "points_per_s": None if rate is None else round(rate, 1),
                           "outputs": [str(p) for p in paths]})
     return 0
 

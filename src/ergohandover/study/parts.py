@@ -13,13 +13,12 @@ from typing import Any
 
 from .. import __version__
 from ..io.manifest import write_manifest
+from ..landscape.cache import twin_code_version
 
 
 def config_hash(config: dict[str, Any]) -> str:
     """A short hash of a part's configuration, the package version and the twin's code (so that
     a change to the model reruns every part: results change when the twin changes)."""
-    from ..landscape.cache import twin_code_version
-
     text = json.dumps({"config": config, "version": __version__,
                        "code": twin_code_version()}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]

@@ -95,6 +95,7 @@ def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
         infeasible), ``flags`` (uint8 bit mask of :data:`REASONS`, 0 = feasible) and the
         joint angles ``q_<joint>`` [rad].
     """
+    locations = check_locations(locations)
     solver = posture_solver(evaluator)
     solution = solver.solve(locations)
     st = solution.state
