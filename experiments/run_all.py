@@ -29,8 +29,8 @@ HERE = Path(__file__).resolve().parent
 PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "figures")
 # Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
 # at the start; parts already finished are not counted.
-ESTIMATE_S = {"default": {"landscape": 140, "learning": 125, "baselines": 35,
-                          "ablations": 70, "participants": 85, "figures": 10},
+ESTIMATE_S = {"default": {"landscape": 120, "learning": 140, "baselines": 35,
+                          "ablations": 65, "participants": 85, "figures": 10},
               "quick": {"landscape": 5, "learning": 10, "baselines": 25, "ablations": 15,
                         "participants": 5, "figures": 10}}
 FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
