@@ -93,3 +93,22 @@ def test_forked_workers_give_the_same_bits(solvers, points):
 def test_an_unknown_backend_is_refused():
     with pytest.raises(ValueError, match="backend"):
         PostureSolver(backend="torch")
+
+
+def test_the_compiled_collision_test_equals_the_numpy_one(solvers):
+    from ergohandover.twin.collision import BodyProbes
+    from ergohandover.twin.task import TaskSpec
+
+    fast, _ = solvers
+    task = TaskSpec()
+    half = np.array([task.box_depth, task.box_width, task.box_height]) / 2.0
+    # A wide boundary, close to the body too, so that many boxes hit it.
+    locations = Boundary((-0.3, 0.3), (0.2, 1.9), (0.0, 0.7)).sample(
+        3000, np.random.default_rng(13))
+    solution = fast.solve(locations)
+    centre = fast.targets(locations).box
+    probes = BodyProbes.of(fast.model.skeleton)
+    compiled = probes.box_hits_body(solution.state, centre, half)
+    reference = probes.box_hits_body_numpy(solution.state, centre, half)
+    assert 0.1 < compiled.mean() < 0.9  # both outcomes are exercised
+    np.testing.assert_array_equal(compiled, reference)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+from numba import njit
 
 from .kinematics import KinematicState
 from .skeleton import Skeleton
@@ -49,6 +50,7 @@ class BodyProbes:
                 self.links.append(link.name)
                 self.points.append(points)
                 self.radii.append(radius)
+        self._packed = None  # link index, point and radius of every probe, built on first use
 
     @staticmethod
     @functools.lru_cache(maxsize=16)
@@ -59,7 +61,24 @@ class BodyProbes:
     def box_hits_body(self, st: KinematicState, centre: np.ndarray,
                       half: np.ndarray) -> np.ndarray:
         """(N,) True where a box at ``centre`` (N, 3) with half extents ``half`` (3,) [m],
-        world frame, contains any probe."""
+        world frame, contains any probe (compiled: a location stops at its first hit)."""
+        if self._packed is None:
+            model = st.model
+            self._packed = (
+                np.concatenate([np.full(len(p), model.link_index(link), np.int64)
+                                for link, p in zip(self.links, self.points, strict=True)]),
+                np.concatenate(self.points),
+                np.concatenate([np.full(len(p), r) for p, r in zip(self.points, self.radii,
+                                                                   strict=True)]))
+        hit = np.empty(centre.shape[0], dtype=np.bool_)
+        _box_hits(st.positions, st.rotations, *self._packed,
+                  np.ascontiguousarray(centre, dtype=float),
+                  np.asarray(half, dtype=float), hit)
+        return hit
+
+    def box_hits_body_numpy(self, st: KinematicState, centre: np.ndarray,
+                            half: np.ndarray) -> np.ndarray:
+        """:meth:`box_hits_body` in numpy, batched over postures: the reference."""
         hit = np.zeros(centre.shape[0], dtype=bool)
         for link, points, radius in zip(self.links, self.points, self.radii, strict=True):
             world = st.point(link)[:, None, :] + np.einsum(
@@ -72,3 +91,28 @@ class BodyProbes:
                       & (gap[..., 2] < limit[2]))
             hit |= inside.any(axis=1)
         return hit
+
+
+@njit(cache=True, nogil=True)
+def _box_hits(positions, rotations, probe_link, probe_point, probe_radius, centre, half, out):
+    """``out[i]``: does the box at ``centre[i]`` contain a probe of posture i? positions
+    (N, L, 3), rotations (N, L, 3, 3), probes (P,) links, (P, 3) points, (P,) radii.
+
+    The arithmetic of the numpy version, in its order (the rotated point's three products
+    summed first, then the link origin added), so both give the same answer.
+    """
+    for i in range(centre.shape[0]):
+        hit = False
+        for p in range(probe_link.shape[0]):
+            link, inside = probe_link[p], True
+            px, py, pz = probe_point[p, 0], probe_point[p, 1], probe_point[p, 2]
+            for c in range(3):
+                rot = rotations[i, link, c]
+                world = positions[i, link, c] + (rot[0] * px + rot[1] * py + rot[2] * pz)
+                if not abs(world - centre[i, c]) < half[c] + probe_radius[p]:
+                    inside = False
+                    break
+            if inside:
+                hit = True
+                break
+        out[i] = hit

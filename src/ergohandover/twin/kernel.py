@@ -36,7 +36,7 @@ LAM_MIN, LAM_MAX = 1e-6, 1e6  # the damping's range, as in PostureSolver.iterate
 
 
 @njit(**JIT)
-def _step(q, jt, res, lam, kin, task, work):
+def _step(q, jt, res, lam, fresh, kin, task, work):
     """The damped, scaled step of ``PostureSolver`` at q into ``work[6]`` (nq,).
 
     Solves (D + JᵀJ) x = grad through Woodbury, (D + JᵀJ)⁻¹ = D⁻¹ - D⁻¹Jᵀ(I + J D⁻¹Jᵀ)⁻¹J D⁻¹,
@@ -47,22 +47,28 @@ def _step(q, jt, res, lam, kin, task, work):
     """
     limits, span = kin[3], kin[6]
     scalars, root = task[2], task[3]
-    wjt, wres, scaled, inner, rhs, u, step = work
+    wjt, wres, scaled, inner, rhs, u, step, grad, hold = work
     nq = q.shape[0]
     for a in range(ROWS):
-        wres[a] = res[a] * root[a]
         rhs[a] = 0.0
+    if fresh:  # J, the residuals and q are new: weight J, take the gradient and the held set
+        for a in range(ROWS):
+            wres[a] = res[a] * root[a]
+        for j in range(nq):
+            g = 0.0
+            for a in range(span[j, 0], span[j, 1]):
+                w = jt[j, a] * root[a]
+                wjt[j, a] = w
+                g += w * wres[a]
+            g += limits[3, j] * (q[j] - limits[2, j])
+            grad[j] = g
+            # A joint held at a limit by a gradient pushing outward sits out the step.
+            held = (q[j] <= limits[0, j] and g > 0.0) or (q[j] >= limits[1, j] and g < 0.0)
+            hold[j] = 1e9 if held else 0.0
     for j in range(nq):
         lo, hi = span[j, 0], span[j, 1]
-        g = 0.0
-        for a in range(lo, hi):
-            w = jt[j, a] * root[a]
-            wjt[j, a] = w
-            g += w * wres[a]
-        g += limits[3, j] * (q[j] - limits[2, j])
-        # A joint held at a limit by a gradient pushing outward takes no part in the step.
-        held = (q[j] <= limits[0, j] and g > 0.0) or (q[j] >= limits[1, j] and g < 0.0)
-        d = 1.0 / (limits[3, j] + lam + (1e9 if held else 0.0))
+        g = grad[j]
+        d = 1.0 / (limits[3, j] + lam + hold[j])
         uj = d * g
         u[j] = uj
         for a in range(lo, hi):
@@ -119,9 +125,9 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
     cost = residuals(q, target, kin, task, scratch, res)
     jacobian(kin, task, scratch, res, jt)
     lam = scalars[5]
-    used = iterations
+    used, fresh = iterations, True
     for it in range(iterations):
-        _step(q, jt, res, lam, kin, task, work)
+        _step(q, jt, res, lam, fresh, kin, task, work)
         for j in range(nq):
             q_new[j] = min(max(q[j] + step[j], limits[0, j]), limits[1, j])
         cost_new = residuals(q_new, target, kin, task, scratch, res_new)
@@ -131,11 +137,13 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
             cost = cost_new
             jacobian(kin, task, scratch, res, jt)  # the scratch holds q's kinematics
             lam = min(max(lam * 0.3, LAM_MIN), LAM_MAX)
+            fresh = True
         elif lam >= LAM_MAX:
             used = it + 1
             break
-        else:
+        else:  # same q, J and gradient: only the damping changes for the next trial
             lam = min(max(lam * 10.0, LAM_MIN), LAM_MAX)
+            fresh = False
     for j in range(nq):
         bufs[0][j] = q[j]
     return used
@@ -162,7 +170,8 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
     scratch = (np.empty((n_links, 3)), np.empty((n_links, 3, 3)), np.empty((nq, 3)),
                np.empty((nq, 3)), np.empty((n_mass, 3)), np.empty((4, 3)))
     work = (np.zeros((nq, ROWS)), np.empty(ROWS), np.zeros((nq, ROWS)),
-            np.empty((ROWS, ROWS)), np.empty(ROWS), np.empty(nq), np.empty(nq))
+            np.empty((ROWS, ROWS)), np.empty(ROWS), np.empty(nq), np.empty(nq), np.empty(nq),
+            np.empty(nq))
     bufs = (np.empty(nq), np.empty(nq), np.empty((nq, ROWS)), np.empty(ROWS), np.empty(ROWS))
     pos, rot, axes, vec = scratch[0], scratch[1], scratch[2], scratch[5]
     links = task[0]
