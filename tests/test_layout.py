@@ -51,13 +51,13 @@ def test_no_module_imports_another_modules_private_names():
         for module, names in imports(path):
             private = [n for n in names if n.startswith("_") and not n.startswith("__")]
             assert not private, f"{path.name} imports {private} from {module}"
-        text = path.read_text()
-        tree = ast.parse(text)
+        tree = ast.parse(path.read_text())
+        aliases = module_aliases(tree)
         for node in ast.walk(tree):
             # module._name(...) on an imported module (not self._x or obj._x of its own class)
             if (isinstance(node, ast.Attribute) and node.attr.startswith("_")
                     and not node.attr.startswith("__") and isinstance(node.value, ast.Name)
-                    and node.value.id in module_aliases(tree)):
+                    and node.value.id in aliases):
                 raise AssertionError(f"{path.name} uses {node.value.id}.{node.attr}")
 
 
