@@ -49,7 +49,8 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
         ik_grid = {"boundary": part["ik_boundary"], "step": part["ik_step"]}
         rows = []
         for solver in ("numpy", "pybullet"):
-            ik = study_landscape.landscape_for(BodySpec(), ik_grid, workers, solver)
+            ik = study_landscape.landscape_for(BodySpec(), ik_grid, workers, solver,
+                                              study_landscape.study_task(config))
             stats = statistics(ik)
             stats.insert(0, "solver", solver)
             stats["unbalanced_fraction"] = ((ik.arrays["flags"] & 4) > 0).mean()

@@ -30,7 +30,7 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
 
     def work(folder: Path) -> dict:
         landscape = study_landscape.default_landscape(config, workers)
-        evaluator, robot = Evaluator(), RobotSpec()
+        evaluator, robot = Evaluator(task=study_landscape.study_task(config)), RobotSpec()
         result = compare(PAPER_STARTS, landscape, evaluator, robot)
         atomic_write_csv(result.table, folder / "baselines.csv")
         markdown = markdown_table(result.table)

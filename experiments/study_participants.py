@@ -32,11 +32,13 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
 
     def work(folder: Path) -> dict:
         landscapes = {DEFAULT_WORKER: study_landscape.default_landscape(config, workers)}
+        task = study_landscape.study_task(config)
         own = {"boundary": config["landscape"]["boundary"], "step": part["step"]}
         for name in part["workers"]:
             if name != DEFAULT_WORKER:
-                landscapes[name] = landscape_for(BodySpec.from_percentile(name), own, workers)
-        table = participant_study(landscapes)
+                landscapes[name] = landscape_for(BodySpec.from_percentile(name), own, workers,
+                                                 task=task)
+        table = participant_study(landscapes, task)
         atomic_write_csv(table, folder / "participants.csv")
         return {"workers": list(landscapes)}
 

@@ -61,6 +61,12 @@ def test_stdout_is_pure_csv_and_body_flags_change_the_posture():
         < tall["trunk_flexion"].iloc[0]
 
 
+def test_the_gaze_flag_changes_the_neck_only_where_the_box_is_out_of_view():
+    on, off = evaluate_stdout(), evaluate_stdout("--gaze", "off")
+    assert not np.allclose(on["neck_flexion"], off["neck_flexion"], atol=0.5)
+    assert (off["neck_flexion"].abs() <= on["neck_flexion"].abs() + 0.5).all()
+
+
 def test_the_pybullet_solver_flag_changes_the_solver():
     ours, theirs = evaluate_stdout(), evaluate_stdout("--solver", "pybullet")
     assert not np.allclose(ours["neck_flexion"], theirs["neck_flexion"], atol=0.5)
@@ -73,6 +79,7 @@ def test_the_pybullet_solver_flag_changes_the_solver():
     ("", (), "is empty"),
     ("x,y,z\n0,1,0.4\n", ("--stature", "2.5"), "stature_m = 2.5 is outside the valid range"),
     ("x,y,z\n0,1,0.4\n", ("--workers", "0"), "workers = 0"),
+    ("x,y,z\n0,1,0.4\n", ("--box-mass-kg", "40"), "box_mass_kg = 40.0 is outside the valid range"),
 ])
 def test_bad_points_or_flags_exit_2_with_one_line(tmp_path, content, args, message):
     points = tmp_path / "points.csv"

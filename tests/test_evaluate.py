@@ -16,7 +16,7 @@ from ergohandover.twin.evaluate import (
     posture_solver,
 )
 from ergohandover.twin.solver import SolverSettings
-from ergohandover.twin.task import Boundary, TaskSpec
+from ergohandover.twin.task import Boundary, TaskSpec, TaskSpecError
 
 BODY = BodySpec()
 SEG = BODY.segments()
@@ -45,6 +45,25 @@ def test_a_box_above_the_head_puts_the_hands_above_the_neck():
     row = one(0.0, BODY.stature_m + 0.10, 0.35)
     assert row["feasible"] == 1 and row["hands_above_neck"] == 1
     assert one(0.0, ELBOW_HEIGHT, 0.35)["hands_above_neck"] == 0
+
+
+def test_gaze_on_bends_the_neck_toward_a_low_box_and_gaze_off_does_not():
+    # A box low and close, 0.95 m high (the paper-code grid's score-4 region without gaze):
+    # keeping it within the eyes' 25-degree cone flexes the neck past the paper's 20 degrees.
+    looking = one(0.0, 0.95, 0.33)
+    ignoring = one(0.0, 0.95, 0.33, task=TaskSpec(gaze="off"))
+    assert looking["feasible"] == 1 and ignoring["feasible"] == 1
+    assert looking["neck_flexion"] > 20 and abs(ignoring["neck_flexion"]) < 5
+    assert ignoring["paper_postural"] == 4 and looking["paper_postural"] > 4
+    # Where the box is in view anyway, the gaze task changes nothing.
+    high = (0.0, BODY.stature_m - 0.30, 0.40)
+    assert one(*high)["neck_flexion"] == pytest.approx(
+        one(*high, task=TaskSpec(gaze="off"))["neck_flexion"], abs=0.5)
+
+
+def test_a_gaze_setting_outside_on_off_is_one_line_error():
+    with pytest.raises(TaskSpecError, match=r"^gaze = 'yes' is not allowed \(use 'on' or 'off'\)$"):
+        TaskSpec(gaze="yes")
 
 
 ARM_ANGLES = ("upper_arm_flexion", "upper_arm_abduction", "upper_arm_rotation",

@@ -111,7 +111,8 @@ def test_a_matching_file_is_reused_and_other_settings_get_their_own(cache):
     assert Landscape.load(landscape_path(other.key)).key == other.key
     assert Landscape.load(landscape_path(first.key)).key == first.key
     # Every setting that changes a landscape changes its key.
-    for changed in (Evaluator(task=TaskSpec(box_mass_kg=8.0)), Evaluator(solver="pybullet"),
+    for changed in (Evaluator(task=TaskSpec(box_mass_kg=8.0)), Evaluator(task=TaskSpec(gaze="off")),
+                    Evaluator(solver="pybullet"),
                     Evaluator(settings=SolverSettings(gaze=2.0)),
                     Evaluator(scoring=ScoringSettings(neutral_tolerance_deg=10.0))):
         assert landscape_key(changed, grid) != first.key

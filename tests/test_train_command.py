@@ -87,6 +87,8 @@ def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, c
      "landscape = 'missing.npz' is not an existing file"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "BOWL", "--step", "0.01"],
      "--step cannot be used with --landscape"),
+    (["--agent", "qlearning", "--steps", "5", "--landscape", "BOWL", "--gaze", "off"],
+     "--gaze cannot be used with --landscape"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "CORRUPT"],
      "is not a readable landscape"),
 ])

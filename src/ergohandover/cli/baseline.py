@@ -25,8 +25,13 @@ from ..landscape.sweep import sweep
 from ..scene.robot import RobotSpec, RobotSpecError
 from ..study.baselines import PAPER_STARTS, compare
 from ..twin.evaluate import Evaluator
-from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args, run_folder
+from .options import (
+    add_body_arguments,
+    add_task_arguments,
+    body_from_args,
+    run_folder,
+    task_from_args,
+)
 
 START = "three finite numbers X,Y,Z in metres, worker frame"
 ROBOT_FLAGS = {"distance": "robot-distance", "arm_spacing": "robot-spacing",
@@ -55,6 +60,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--step", type=float, metavar="S",
                         help=f"grid step [m] (default: the landscape's, else {DEFAULT_STEP})")
     add_body_arguments(parser)
+    add_task_arguments(parser)
     parser.add_argument("--landscape", type=Path, metavar="FILE",
                         help="a landscape .npz (default: the matching one from the landscape "
                         "cache, swept into it when missing)")
@@ -148,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
     except RobotSpecError as exc:
         field = str(exc).split(" = ")[0]
         raise InputError(str(exc).replace(field, ROBOT_FLAGS.get(field, field), 1)) from None
-    evaluator = Evaluator(body_from_args(args), TaskSpec())
+    evaluator = Evaluator(body_from_args(args), task_from_args(args))
     if args.output is not None and not args.output.parent.is_dir():
         raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
                          "not exist")

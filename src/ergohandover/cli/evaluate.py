@@ -21,8 +21,13 @@ from ..twin.evaluate import (
     joint_angles,
     posture_solver,
 )
-from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args, run_folder
+from .options import (
+    add_body_arguments,
+    add_task_arguments,
+    body_from_args,
+    run_folder,
+    task_from_args,
+)
 
 DESCRIPTION = """\
 Evaluate box locations: for each row of --points (columns x, y, z: the box centre in the worker
@@ -43,6 +48,7 @@ def add_parser(subparsers) -> None:
                         help="Evaluation CSV to write (atomically), or - for standard output "
                         "(default: runs/evaluate/<timestamp>/evaluation.csv)")
     add_body_arguments(parser)
+    add_task_arguments(parser)
     parser.add_argument("--solver", choices=SOLVERS, default="numpy",
                         help="numpy: the whole-body solver (balance, gaze, palms; compiled); "
                         "pybullet: PyBullet's IK on the hands only (default: numpy)")
@@ -70,7 +76,7 @@ def read_points(source: str) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     check_workers(args.workers)
-    body, task = body_from_args(args), TaskSpec()
+    body, task = body_from_args(args), task_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:

@@ -73,6 +73,28 @@ def body_from_args(args: argparse.Namespace):
     return dataclasses.replace(body, **overrides) if overrides else body
 
 
+def add_task_arguments(parser: argparse.ArgumentParser) -> None:
+    """One flag per :class:`~ergohandover.twin.task.TaskSpec` field: the box and ``--gaze``."""
+    from ..twin.task import TaskSpec
+
+    add_dataclass_arguments(parser, TaskSpec, "task (default: the 6 kg box, gaze on)")
+
+
+def task_from_args(args: argparse.Namespace):
+    """The TaskSpec the task flags describe (defaults for those not given)."""
+    from ..twin.task import TaskSpec
+
+    return dataclass_from_args(TaskSpec, args)
+
+
+def task_flags_given(args: argparse.Namespace) -> list[str]:
+    """The task flags given on the command line, as typed (``--gaze``, ...)."""
+    from ..twin.task import TaskSpec
+
+    return [flag_name(f) for f in dataclasses.fields(TaskSpec)
+            if getattr(args, f.name, None) is not None]
+
+
 RUNS = Path("runs")
 """Where commands write by default (ignored by git): ``runs/<command>/<timestamp>/``. The study's
 ``results/`` and ``paper_figs/`` are written only by the study scripts."""

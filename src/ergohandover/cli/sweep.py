@@ -17,8 +17,13 @@ from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..landscape.stats import statistics, write_statistics
 from ..landscape.sweep import sweep
 from ..twin.evaluate import SOLVERS, Evaluator
-from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args, run_folder
+from .options import (
+    add_body_arguments,
+    add_task_arguments,
+    body_from_args,
+    run_folder,
+    task_from_args,
+)
 
 
 def add_parser(subparsers) -> None:
@@ -33,6 +38,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--step", type=float, default=DEFAULT_STEP, metavar="S",
                         help=f"grid step [m] (default: {DEFAULT_STEP}, the paper's)")
     add_body_arguments(parser)
+    add_task_arguments(parser)
     parser.add_argument("--solver", choices=SOLVERS, default="numpy",
                         help="posture solver (default: numpy)")
     parser.add_argument("--output", type=Path, metavar="DIR",
@@ -56,7 +62,7 @@ def add_parser(subparsers) -> None:
 
 def run_sweep(args: argparse.Namespace) -> int:
     check_workers(args.workers)
-    body, task = body_from_args(args), TaskSpec()
+    body, task = body_from_args(args), task_from_args(args)
     grid = Grid(parse_boundary(args.boundary, body, task), args.step)
     evaluator = Evaluator(body, task, args.solver)
     key = landscape_key(evaluator, grid)

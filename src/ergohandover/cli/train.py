@@ -16,8 +16,14 @@ from ..landscape.cache import Landscape, landscape_key, landscape_path
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..learning.runner import AGENTS, TEMPERATURES, run_agent
 from ..twin.evaluate import Evaluator
-from ..twin.task import TaskSpec
-from .options import add_body_arguments, body_from_args, run_folder
+from .options import (
+    add_body_arguments,
+    add_task_arguments,
+    body_from_args,
+    run_folder,
+    task_flags_given,
+    task_from_args,
+)
 
 DESCRIPTION = """\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
@@ -66,6 +72,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--step", metavar="S",
                         help=f"online grid step [m] (default: {DEFAULT_STEP})")
     add_body_arguments(parser)
+    add_task_arguments(parser)
     parser.add_argument("--output", type=Path, metavar="DIR",
                         help="result directory (default: a new runs/train/<timestamp>/)")
     parser.set_defaults(run=run)
@@ -116,6 +123,7 @@ def parse(args: argparse.Namespace) -> dict:
         given = [f"--{f}" for f, v in (("boundary", args.boundary), ("step", args.step),
                                       ("percentile", args.percentile), ("stature", args.stature),
                                       ("mass", args.mass), ("sex", args.sex)) if v is not None]
+        given += task_flags_given(args)
         if given:
             raise InputError(f"{given[0]} cannot be used with --landscape (the landscape fixes "
                              "the grid, worker and task)")
@@ -133,7 +141,7 @@ def build_env(config: dict, args: argparse.Namespace):
 
     landscape, path = None, config["landscape"]
     if path is None:  # the landscape cache holds this grid's landscape if it was swept before
-        body, task = body_from_args(args), TaskSpec()
+        body, task = body_from_args(args), task_from_args(args)
         grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
         evaluator = Evaluator(body, task)
         cached = landscape_path(landscape_key(evaluator, grid))

@@ -217,7 +217,7 @@ class PackedSolver:
     """
 
     def __init__(self, solver) -> None:
-        model, s = solver.model, solver.settings
+        model, s = solver.model, solver.weights
         steps = model.steps
         self.nq, self.n_links = model.nq, len(model.link_names)
         origin = np.zeros((len(steps), 3))

@@ -30,6 +30,10 @@ class TaskSpec:
     6 kg, inside one-person lifting guidance and in REBA's 5–10 kg load band. Moulded handles
     with a power grip give coupling 0 ("good"). Holding the box for the handover is neither
     static beyond a minute nor repeated, so activity is 0.
+
+    ``gaze``: whether the worker keeps the box in view. "on" (the default) adds the solver's
+    gaze task: the line of sight may turn only within the eyes' comfortable cone of the box
+    centre, beyond it the head and trunk turn. "off" ignores where the worker looks.
     """
 
     box_width: float = ranged(0.36, "box width, side to side [m]", 0.10, 1.00)
@@ -40,6 +44,8 @@ class TaskSpec:
     coupling: int = ranged(0, "REBA coupling of the handles: 0 good ... 3 unacceptable", 0, 3)
     activity: int = ranged(0, "REBA activity score 0-3", 0, 3)
     clearance: float = ranged(0.02, "gap kept between the box and the torso [m]", 0.0, 0.20)
+    gaze: str = ranged("on", "keep the box in view ('on') or ignore where the worker looks "
+                       "('off')", choices=("on", "off"))
 
     def __post_init__(self):
         check_ranges(self, TaskSpecError)
