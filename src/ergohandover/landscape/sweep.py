@@ -2,7 +2,7 @@
 
 The sweep runs in parts; each finished part is written (atomically) beside the cache file, so a
 sweep killed at any moment resumes without redoing finished parts and yields the same file.
-Every point goes through :func:`~ergohandover.twin.evaluate.evaluate_arrays`, the one
+Every point goes through :func:`~ergohandover.twin.evaluate.evaluate_stream`, the one
 evaluation path, on one pool of worker processes kept for the whole sweep.
 """
 
@@ -19,7 +19,7 @@ from tqdm import tqdm
 from .. import __version__
 from ..executor import LocalExecutor
 from ..io.atomic import atomic_write
-from ..twin.evaluate import Evaluator, evaluate_arrays, posture_solver
+from ..twin.evaluate import CHUNK, Evaluator, evaluate_stream, posture_solver
 from .cache import Landscape, LandscapeError, landscape_key, landscape_path
 from .grid import Grid
 
@@ -91,27 +91,43 @@ def sweep(grid: Grid, evaluator: Evaluator | None = None, workers: int = 1,
             for i, (a, b) in enumerate(bounds)}
     done = {i: part for i, part in done.items() if part is not None}
     start_time = time.perf_counter()
-    computed, parts_computed = 0, 0
+    computed = 0
     bar = tqdm(total=grid.size, initial=sum(bounds[i][1] - bounds[i][0] for i in done),
                unit="pt", unit_scale=True, desc="sweep", file=sys.stderr, disable=not progress)
     columns = ("flags", *SCORES, *ANGLES)
+    pending = [i for i in range(len(bounds)) if i not in done]
+    stopped = stop_after_parts is not None and len(pending) > stop_after_parts
+    if stopped:
+        pending = pending[:stop_after_parts]
+    # Every chunk of every missing part is queued at once: the workers keep evaluating while
+    # this process stores each part as its last chunk arrives.
+    batches, owners = [], []
+    for i in pending:
+        a, b = bounds[i]
+        points = grid.points(a, b)
+        for c in range(0, b - a, CHUNK):
+            batches.append(points[c:c + CHUNK])
+            owners.append(i)
+    arrived: dict[int, list[dict[str, np.ndarray]]] = {}
     posture_solver(evaluator)  # the warm-start lattice, prepared once before the pool forks
     try:
         with LocalExecutor(workers) as executor:
-            for i, (a, b) in enumerate(bounds):
-                if i in done:
+            for i, rows in zip(owners, evaluate_stream(batches, evaluator, columns,
+                                                       executor=executor), strict=True):
+                bar.update(len(rows["flags"]))
+                arrived.setdefault(i, []).append(rows)
+                a, b = bounds[i]
+                if sum(len(r["flags"]) for r in arrived[i]) < b - a:
                     continue
-                if stop_after_parts is not None and parts_computed >= stop_after_parts:
-                    return None, False
-                part = _compact(evaluate_arrays(grid.points(a, b), evaluator,
-                                                progress=bar.update, columns=columns,
-                                                executor=executor))
+                chunks = arrived.pop(i)
+                part = _compact({c: np.concatenate([r[c] for r in chunks]) for c in columns})
                 _save_part(parts_dir / f"part_{i:05d}.npz", part)
                 done[i] = part
                 computed += b - a
-                parts_computed += 1
     finally:
         bar.close()
+    if stopped:
+        return None, False
     arrays = {name: np.concatenate([done[i][name] for i in range(len(bounds))])
               for name in done[0]}
     elapsed = time.perf_counter() - start_time

@@ -13,7 +13,7 @@ before.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -147,6 +147,29 @@ def check_locations(locations) -> np.ndarray:
     return locations
 
 
+def evaluate_stream(batches: Iterable[np.ndarray], evaluator: Evaluator | None = None,
+                    columns: Iterable[str] | None = None, workers: int = 1,
+                    executor: LocalExecutor | None = None) -> Iterator[dict[str, np.ndarray]]:
+    """Evaluate batches of locations, in this process or over worker processes, yielding each
+    batch's columns (see :func:`evaluate_batch`) in order as it finishes.
+
+    Every batch is queued at once, so the workers never wait for the caller: a consumer that
+    stores results as they arrive (the sweep's checkpoints) overlaps with the evaluation.
+
+    Args:
+        batches: (n, 3) box centres each, worker frame [m]; :data:`CHUNK` rows suit the pool.
+        evaluator: body, task, solver and scoring settings (default: all defaults).
+        columns: the columns to keep; only these travel back from the worker processes.
+        workers: processes (1 = this process); ignored when ``executor`` is given.
+        executor: an open :class:`~ergohandover.executor.LocalExecutor` to reuse.
+    """
+    evaluator = evaluator or Evaluator()
+    columns = None if columns is None else tuple(columns)
+    jobs = [(evaluator, check_locations(batch), columns) for batch in batches]
+    posture_solver(evaluator)  # prepared before any worker process forks
+    yield from (executor or LocalExecutor(workers)).map(_batch_job, jobs)
+
+
 def evaluate_arrays(locations: np.ndarray, evaluator: Evaluator | None = None, workers: int = 1,
                     progress: Callable[[int], None] | None = None,
                     columns: Iterable[str] | None = None,
@@ -167,12 +190,9 @@ def evaluate_arrays(locations: np.ndarray, evaluator: Evaluator | None = None, w
     """
     locations = check_locations(locations)
     evaluator = evaluator or Evaluator()
-    columns = None if columns is None else tuple(columns)
-    posture_solver(evaluator)  # prepared before any worker process forks
-    jobs = [(evaluator, locations[a:a + CHUNK], columns)
-            for a in range(0, len(locations), CHUNK)]
+    batches = [locations[a:a + CHUNK] for a in range(0, len(locations), CHUNK)]
     parts = []
-    for part in (executor or LocalExecutor(workers)).map(_batch_job, jobs):
+    for part in evaluate_stream(batches, evaluator, columns, workers, executor):
         parts.append(part)
         if progress:
             progress(len(next(iter(part.values()))))
