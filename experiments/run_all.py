@@ -7,6 +7,7 @@ Parts, in order (each resumable: a finished part is reused from its manifest.jso
   baselines     the shortest-distance vs the optimised location from the paper's five starts
   ablations     objective, temperature schedule, human IK (ours vs PyBullet's)
   participants  the VR participant study, simulated with six workers of different sizes
+  sensitivity   which modelling choices move the optimum: a landscape per variant
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
 --quick runs every part on coarse grids and second-long caps (a few minutes) into
@@ -26,15 +27,17 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent
-PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "figures")
+PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "sensitivity",
+         "figures")
 # Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
 # at the start; parts already finished are not counted.
 ESTIMATE_S = {"default": {"landscape": 120, "learning": 140, "baselines": 35,
-                          "ablations": 65, "participants": 85, "figures": 10},
+                          "ablations": 65, "participants": 85, "sensitivity": 120,
+                          "figures": 10},
               "quick": {"landscape": 5, "learning": 10, "baselines": 25, "ablations": 15,
-                        "participants": 5, "figures": 10}}
+                        "participants": 5, "sensitivity": 30, "figures": 10}}
 FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
-                  "fig_participants", "make_tables")
+                  "fig_participants", "fig_sensitivity", "make_tables")
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:

@@ -34,18 +34,24 @@ def study_task(config: dict) -> TaskSpec:
     return TaskSpec(gaze=config["landscape"].get("gaze", "on"))
 
 
-def landscape_for(body: BodySpec, config: dict, workers: int, solver: str = "numpy",
-                  task: TaskSpec | None = None) -> Landscape:
-    """The landscape of ``body`` on the configured boundary and step (``config``: a section
-    with ``boundary`` and ``step``), from the landscape cache (swept into it when missing)."""
-    task = task or TaskSpec()
-    grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
-    evaluator = Evaluator(body, task, solver)
-    print(f"  {grid.describe()} for {body} ({solver} solver, gaze {task.gaze})")
+def landscape_of(evaluator: Evaluator, config: dict, workers: int) -> Landscape:
+    """The landscape of ``evaluator`` on the configured boundary and step (``config``: a
+    section with ``boundary`` and ``step``), from the landscape cache (swept into it when
+    missing)."""
+    grid = Grid(parse_boundary(config["boundary"], evaluator.body, evaluator.task),
+                config["step"])
+    print(f"  {grid.describe()} for {evaluator.body} ({evaluator.solver} solver, "
+          f"gaze {evaluator.task.gaze})")
     landscape, reused = sweep(grid, evaluator, workers=workers)
     if reused:
         print(f"  reused {landscape_path(landscape_key(evaluator, grid))}")
     return landscape
+
+
+def landscape_for(body: BodySpec, config: dict, workers: int, solver: str = "numpy",
+                  task: TaskSpec | None = None) -> Landscape:
+    """:func:`landscape_of` the default evaluator with this body, solver and task."""
+    return landscape_of(Evaluator(body, task or TaskSpec(), solver), config, workers)
 
 
 def default_landscape(config: dict, workers: int) -> Landscape:

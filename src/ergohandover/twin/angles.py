@@ -1,6 +1,7 @@
 """Solved joint state -> the Posture columns, in the REBA worksheet's conventions.
 
-Trunk flexion and side bend are measured from vertical; neck and upper arm relative to the
+Trunk flexion and side bend are measured from vertical (or, as an option, relative to the
+pelvis); neck and upper arm relative to the
 trunk; knees, elbows and wrists from their joints. Degrees, flexion positive. The world frame
 has x forward, y to the worker's left, z up.
 """
@@ -27,12 +28,15 @@ def _lean(up: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _deg(flexion), _deg(side_bend)
 
 
-def posture_columns(st: KinematicState, task: TaskSpec) -> dict[str, np.ndarray]:
+def posture_columns(st: KinematicState, task: TaskSpec,
+                    trunk_reference: str = "vertical") -> dict[str, np.ndarray]:
     """The Posture columns of N solved postures.
 
     Args:
         st: forward kinematics of the solved postures.
         task: gives load, coupling and activity.
+        trunk_reference: trunk flexion and side bend from ``vertical`` (the worksheets') or
+            relative to the ``pelvis``.
 
     Returns:
         Column name -> (N,) array, every column of :data:`ergonomics.POSTURE_COLUMNS`.
@@ -46,7 +50,10 @@ def posture_columns(st: KinematicState, task: TaskSpec) -> dict[str, np.ndarray]
     thorax = st.rotation("thorax")  # (N, 3, 3), columns = thorax axes in the world
     to_thorax = thorax.transpose(0, 2, 1)
     cols: dict[str, np.ndarray] = {}
-    cols["trunk_flexion"], cols["trunk_side_bend"] = _lean(thorax[:, :, 2])
+    trunk_up = thorax[:, :, 2]
+    if trunk_reference == "pelvis":
+        trunk_up = (st.rotation("pelvis").transpose(0, 2, 1) @ thorax)[:, :, 2]
+    cols["trunk_flexion"], cols["trunk_side_bend"] = _lean(trunk_up)
     cols["trunk_twist"] = joint("lumbar_twist")
     head_up = (to_thorax @ st.rotation("head"))[:, :, 2]
     cols["neck_flexion"], cols["neck_side_bend"] = _lean(head_up)

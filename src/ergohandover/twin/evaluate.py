@@ -29,6 +29,7 @@ from .solver import PostureSolver, SolverSettings
 from .task import TaskSpec
 
 SOLVERS = ("numpy", "pybullet")
+TRUNK_REFERENCES = ("vertical", "pelvis")
 HAND_TOLERANCE_M = 0.01
 REASONS = ("hand_miss", "box_collision", "unbalanced")
 """Why a location is infeasible: a hand misses its handle by more than 1 cm; the box
@@ -55,11 +56,15 @@ class Evaluator:
     solver: str = "numpy"
     settings: SolverSettings = field(default_factory=SolverSettings)
     scoring: ScoringSettings = field(default_factory=ScoringSettings)
+    trunk_reference: str = "vertical"
+    """Trunk flexion and side bend from vertical (the worksheets', default) or relative to the
+    pelvis (the lumbar spine's own bend, as a joint-angle model would read it)."""
 
     def __post_init__(self):
-        if self.solver not in SOLVERS:
-            raise EvaluationError(f"solver = {self.solver!r} is not allowed (use "
-                                  f"{' or '.join(repr(s) for s in SOLVERS)})")
+        for name, allowed in (("solver", SOLVERS), ("trunk_reference", TRUNK_REFERENCES)):
+            if getattr(self, name) not in allowed:
+                raise EvaluationError(f"{name} = {getattr(self, name)!r} is not allowed (use "
+                                      f"{' or '.join(repr(s) for s in allowed)})")
 
 
 _SOLVERS: dict[Evaluator, PostureSolver] = {}
@@ -113,7 +118,7 @@ def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
     flags = np.zeros(len(locations), dtype=np.uint8)
     for bit, name in enumerate(REASONS):
         flags |= problems[name].astype(np.uint8) << bit
-    posture = posture_columns(st, task)
+    posture = posture_columns(st, task, evaluator.trunk_reference)
     scores = score_postures(Posture(posture), evaluator.scoring)
     joints = {JOINT_PREFIX + name: solution.q[:, i]
               for i, name in enumerate(solver.model.joint_names)}

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..frames import worker_to_world
+from ..ranges import check_ranges, ranged
 from .anthropometry import BodySpec
 from .kinematics import KinematicModel, KinematicState
 from .skeleton import build_skeleton
@@ -87,6 +88,10 @@ def handover_targets(task: TaskSpec, locations: np.ndarray) -> Targets:
     return Targets(worker_to_world(left), worker_to_world(right), worker_to_world(locations))
 
 
+class SolverSettingsError(ConfigError):
+    """A solver setting outside its valid range; the message is one line."""
+
+
 @dataclass(frozen=True)
 class SolverSettings:
     """Weights and iteration budget of the posture solver (model parameters, documented above).
@@ -104,6 +109,13 @@ class SolverSettings:
             97.3% as with 60 (97.6% with 12), for two iterations (a sixth of the solve) less
             (``experiments/analysis/iteration_budget.py``).
         lattice_iterations: iterations for the lattice postures, from standing.
+        preference_scale: factor on every joint-preference weight (``JOINT_PREFERENCE``).
+        joint_preference_scales: (joint, factor) pairs on single joints' preference weights,
+            joints named as in ``JOINT_PREFERENCE`` (both sides for an arm joint).
+        range_of_motion: fraction of each joint's range the solver may use; both limits move
+            toward 0 (the neutral stance) by this factor.
+
+    The last three exist for the sensitivity study; at their defaults they change nothing.
     """
 
     hand: float = 1e4
@@ -115,6 +127,27 @@ class SolverSettings:
     max_step_deg: float = 15.0
     iterations: int = 10
     lattice_iterations: int = 100
+    preference_scale: float = ranged(1.0, "factor on every joint-preference weight", 0.1, 10.0)
+    joint_preference_scales: tuple[tuple[str, float], ...] = ()
+    range_of_motion: float = ranged(1.0, "fraction of each joint's range of motion used",
+                                    0.5, 1.0)
+
+    def __post_init__(self):
+        check_ranges(self, SolverSettingsError)
+        for pair in self.joint_preference_scales:
+            name, factor = pair
+            if name not in JOINT_PREFERENCE:
+                raise SolverSettingsError(
+                    f"joint_preference_scales: {name!r} is not a joint (use "
+                    f"{', '.join(JOINT_PREFERENCE)})")
+            if not 0.1 <= factor <= 10.0:
+                raise SolverSettingsError(f"joint_preference_scales: {name} factor {factor!r} "
+                                          "is outside the valid range 0.1-10")
+
+    def preference_factors(self, joints: list[str]) -> np.ndarray:
+        """(nq,) the factors on the preference weights of ``joints`` (base names)."""
+        single = dict(self.joint_preference_scales)
+        return np.array([self.preference_scale * single.get(j, 1.0) for j in joints])
 
 
 class Solution(NamedTuple):
@@ -148,10 +181,14 @@ class PostureSolver:
         self.weights = (self.settings if self.task.gaze == "on"
                         else replace(self.settings, gaze=0.0))
         self.model = KinematicModel(build_skeleton(self.body))
+        # The solver's own model: a reduced range of motion narrows only what it may use.
+        self.model.lower = self.model.lower * self.settings.range_of_motion
+        self.model.upper = self.model.upper * self.settings.range_of_motion
         self.support = support_rectangle(self.body)
         base = [n.removeprefix("left_").removeprefix("right_") for n in self.model.joint_names]
         self.neutral = np.radians([JOINT_PREFERENCE[b][0] for b in base])  # (nq,)
-        self.preference = np.array([JOINT_PREFERENCE[b][1] for b in base])  # (nq,)
+        self.preference = (np.array([JOINT_PREFERENCE[b][1] for b in base])
+                           * self.settings.preference_factors(base))  # (nq,)
         standing = np.radians([START_POSTURE_DEG.get(b, 0.0) for b in base])
         self.standing = np.clip(standing, self.model.lower, self.model.upper)
         pitch = np.radians(SIGHT_PITCH_DEG)
