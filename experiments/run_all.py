@@ -8,6 +8,7 @@ Parts, in order (each resumable: a finished part is reused from its manifest.jso
   ablations     objective, temperature schedule, human IK (ours vs PyBullet's)
   participants  the VR participant study, simulated with six workers of different sizes
   sensitivity   which modelling choices move the optimum: a landscape per variant
+  validation    the twin beside published human data (angles, working heights, lifts)
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
 --quick runs every part on coarse grids and second-long caps (a few minutes) into
@@ -28,16 +29,17 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent
 PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "sensitivity",
-         "figures")
+         "validation", "figures")
 # Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
 # at the start; parts already finished are not counted.
-ESTIMATE_S = {"default": {"landscape": 120, "learning": 140, "baselines": 35,
-                          "ablations": 65, "participants": 85, "sensitivity": 120,
-                          "figures": 10},
+ESTIMATE_S = {"default": {"landscape": 150, "learning": 140, "baselines": 35,
+                          "ablations": 65, "participants": 85, "sensitivity": 95,
+                          "validation": 5, "figures": 15},
               "quick": {"landscape": 5, "learning": 10, "baselines": 25, "ablations": 15,
-                        "participants": 5, "sensitivity": 30, "figures": 10}}
+                        "participants": 5, "sensitivity": 15, "validation": 5,
+                        "figures": 15}}
 FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
-                  "fig_participants", "fig_sensitivity", "make_tables")
+                  "fig_participants", "fig_sensitivity", "fig_validation", "make_tables")
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:

@@ -161,11 +161,27 @@ def sensitivity() -> list[str]:
     return [*lines, ""]
 
 
+def validation() -> list[str]:
+    table = read("validation/validation.csv")
+    within = table["within"].astype(str) == "True"
+    lines = [f"## Validation: the twin beside published human data ({int(within.sum())} of "
+             f"{len(table)} conditions within, {table['source'].nunique()} sources)", "",
+             "| source | condition | quantity | published range | box (y, z) [m] | twin | within |",
+             "|---|---|---|---|---|---|---|"]
+    for r, ok in zip(table.itertuples(), within, strict=True):
+        twin = f"{r.twin:.1f}" if r.twin == r.twin else str(r.twin_note)
+        cite = r.source.split(". ")[0] if not r.source.startswith("ISO") else "ISO 11226:2000"
+        lines.append(f"| {cite} | {r.condition} | {r.quantity} | {r.low:g} to {r.high:g} "
+                     f"({r.basis}) | ({r.box_y:.3f}, {r.box_z:.3f}) | {twin} | "
+                     f"{'yes' if ok else '**no**'} |")
+    return [*lines, ""]
+
+
 def main() -> None:
     text = "\n".join(["# Tables: the paper beside this reproduction", "",
                       "Built by experiments/analysis/make_tables.py from results/ only.", "",
                       *landscape(), *learning(), *baselines(), *participants(), *ablations(),
-                      *sensitivity()])
+                      *sensitivity(), *validation()])
     path = atomic_write(RESULTS / "tables.md", lambda h: h.write(text))
     print(f"wrote {path}")
 
