@@ -89,7 +89,7 @@ def gaze_effect(off: Landscape, on: Landscape) -> dict:
     cells = minimisers(off, "paper_postural")
     points = off.grid.coordinates(cells)
     out = {"points": len(cells), "paper_postural_off": int(off.arrays["paper_postural"][cells[0]]),
-           **{f"{a}_{e}": f(points[:, k]) for k, a in enumerate("yz")
+           **{f"{a}_{e}": f(points[:, k]) for k, a in enumerate("xyz")
               for e, f in (("min", np.min), ("max", np.max))}}
     for name, landscape in (("off", off), ("on", on)):
         for angle in ("neck_flexion", "trunk_flexion", "left_elbow_flexion"):
