@@ -79,3 +79,44 @@ def test_readme_landscape_table_is_the_committed_result():
         digits = 2 if row["fraction_at_min"] < 0.1 else 1
         assert share == f"{row['fraction_at_min']:.{digits}%}", name
         assert best == f"({row['best_x']:.3f}, {row['best_y']:.3f}, {row['best_z']:.3f})"
+
+
+def tables_md_block(title: str) -> str:
+    """The table of results/tables.md that follows the line starting with ``title``."""
+    text = (ROOT / "results" / "tables.md").read_text()
+    after = text.split("\n" + title, 1)[1]
+    return after.split("\n\n", 2)[1].strip("\n")
+
+
+def readme_block(marker: str) -> str:
+    """The table that follows ``<!-- marker ... -->`` in the README."""
+    after = README.split(f"<!-- {marker}", 1)[1].split("-->", 1)[1]
+    return after.strip("\n").split("\n\n", 1)[0]
+
+
+def test_readme_gaze_and_boundary_table_is_the_committed_result():
+    assert readme_block("gaze-table") == tables_md_block("Both boundaries, gaze on and off")
+
+
+def test_readme_sensitivity_table_is_the_committed_result():
+    assert readme_block("sensitivity-table") == tables_md_block("## Sensitivity")
+
+
+def test_readme_validation_table_is_the_committed_result():
+    assert readme_block("validation-table") == tables_md_block("## Validation")
+
+
+def test_readme_gaze_explanation_quotes_the_committed_result():
+    effect = pd.read_csv(ROOT / "results" / "landscape" / "gaze_effect.csv").iloc[0]
+    text = " ".join(README.split("**Gaze decides the paper score's minimum.**")[1]
+                    .split("## Sensitivity")[0].split())
+    for quoted in (f"on {int(effect['points']):,} points",
+                   f"{effect['y_min']:.2f}–{effect['y_max']:.2f} m high",
+                   f"{effect['z_min']:.2f}–{effect['z_max']:.2f} m in front",
+                   f"by {effect['neck_flexion_on']:.1f}° on average",
+                   f"(past 20° at {effect['neck_over_20_on_share']:.0%} of those points)".replace(
+                       "%", " %"),
+                   f"leans the trunk {effect['trunk_flexion_on']:.1f}°",
+                   f"elbows to {effect['left_elbow_flexion_on']:.0f}°",
+                   f"a median score of {effect['paper_postural_on_median']:.0f}"):
+        assert quoted in text, quoted

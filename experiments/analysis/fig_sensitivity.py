@@ -29,7 +29,7 @@ def main() -> None:
         ax.text(shift, k, f" min {low}{mark}", va="center", fontsize=7)
     ax.set_xlabel("shift of the paper-score optimum from the default's on the same grid [cm]")
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in COLOURS.values()]
-    ax.legend(handles, [f"minimum paper score {k} than the default's "
+    ax.legend(handles, [f"minimum paper score {k} the default's "
                         f"{default['paper_postural_min']}" for k in COLOURS],
               fontsize=7, loc="lower right")
     ax.set_title(f"Sensitivity of the optimum to the model ({len(rows)} variants)\n"

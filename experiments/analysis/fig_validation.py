@@ -28,14 +28,16 @@ def main() -> None:
                label="twin, within")
     ax.scatter(table["twin"][~within], y[~within], color="tab:red", zorder=3,
                label="twin, outside")
-    labels = [f"{short_source(r.source)}: {r.quantity} ({r.location})"
+    groups = [next((f", {g}s" for g in ("expert", "novice") if g in r.condition), "")
               for r in table.itertuples()]
+    labels = [f"{short_source(r.source)}{g}: {r.quantity} ({r.location})"
+              for r, g in zip(table.itertuples(), groups, strict=True)]
     ax.set_yticks(y, labels, fontsize=7)
     ax.axvline(0, color="black", linewidth=0.5)
     ax.set_xlabel("degrees or centimetres (see each label)")
     ax.set_title(f"The twin beside published human data: {int(within.sum())} of {len(table)} "
                  f"conditions within ({table['source'].nunique()} sources)", fontsize=10)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="upper right")
     save(fig, "validation.png")
 
 
