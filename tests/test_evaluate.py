@@ -13,6 +13,8 @@ from ergohandover.twin.evaluate import (
     EvaluationError,
     Evaluator,
     evaluate,
+    evaluate_arrays,
+    evaluate_stream,
     posture_solver,
 )
 from ergohandover.twin.solver import SolverSettings
@@ -138,6 +140,20 @@ def test_rows_are_bit_identical_whatever_the_order_batching_or_workers():
     alone = evaluate(points[order[:3]])
     pd.testing.assert_frame_equal(alone, table.iloc[order[:3]].reset_index(drop=True),
                                   check_exact=True)
+
+
+def test_the_stream_yields_each_batch_in_order_as_evaluate_arrays_would():
+    points = Boundary.paper_code().sample(700, np.random.default_rng(6))
+    sizes = (250, 1, 449)  # uneven batches, one of a single location
+    batches = np.split(points, np.cumsum(sizes)[:-1])
+    columns = ("flags", "paper_postural", "trunk_flexion")
+    whole = evaluate_arrays(points, columns=columns)
+    streamed = list(evaluate_stream(batches, columns=columns, workers=2))
+    assert [len(part["flags"]) for part in streamed] == list(sizes)
+    for c in columns:
+        np.testing.assert_array_equal(np.concatenate([part[c] for part in streamed]), whole[c])
+    with pytest.raises(EvaluationError, match="not finite"):
+        list(evaluate_stream([points[:2], np.array([[0.0, np.nan, 0.4]])]))
 
 
 def test_a_smaller_worker_reaches_less_far():
