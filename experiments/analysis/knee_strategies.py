@@ -18,6 +18,7 @@ import argparse
 
 import numpy as np
 
+from ergohandover.study.validation import GAP_M  # the mean ankle-to-box gap people leave
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import Evaluator, posture_solver
 from ergohandover.twin.tasks import stack_tasks
@@ -31,7 +32,6 @@ STRATEGIES = {
               "lumbar_flexion": 20},
 }
 JOINTS = ("knee_flexion", "hip_flexion", "lumbar_flexion", "ankle_flexion")
-GAP_M = 0.236  # box's near edge in front of the ankles (Potvin & Bent 1997, mean)
 
 
 def main() -> None:

@@ -116,9 +116,9 @@ CONDITIONS = (
 )
 
 
-def locations(body: BodySpec, evaluator: Evaluator, optimum: np.ndarray) -> dict[str, np.ndarray]:
-    """The box locations of the conditions, worker frame [m]."""
-    task = evaluator.task
+def locations(evaluator: Evaluator, optimum: np.ndarray) -> dict[str, np.ndarray]:
+    """The box locations of the conditions for the evaluator's worker, worker frame [m]."""
+    body, task = evaluator.body, evaluator.task
     near = GAP_M + task.box_depth / 2.0  # box centre in front of the ankles
     return {"optimum": np.asarray(optimum, dtype=float),
             "knee": np.array([0.0, body.segments().knee_height, near]),
@@ -162,7 +162,7 @@ def validation_table(optimum: np.ndarray, evaluator: Evaluator | None = None) ->
     """
     evaluator = evaluator or Evaluator()
     body = evaluator.body
-    where = locations(body, evaluator, optimum)
+    where = locations(evaluator, optimum)
     names = list(where)
     table = evaluate(np.stack([where[n] for n in names]), body, evaluator.task,
                      evaluator.solver, evaluator.settings, evaluator.scoring, joints=True)
