@@ -108,7 +108,7 @@ def test_readme_validation_table_is_the_committed_result():
 
 def test_readme_gaze_explanation_quotes_the_committed_result():
     effect = pd.read_csv(ROOT / "results" / "landscape" / "gaze_effect.csv").iloc[0]
-    text = " ".join(README.split("**Gaze decides the paper score's minimum.**")[1]
+    text = " ".join(README.split("**Gaze decides how often the minimum is reached.**")[1]
                     .split("## Sensitivity")[0].split())
     for quoted in (f"on {int(effect['points']):,} points",
                    f"{effect['y_min']:.2f}–{effect['y_max']:.2f} m high",
@@ -120,3 +120,16 @@ def test_readme_gaze_explanation_quotes_the_committed_result():
                    f"elbows to {effect['left_elbow_flexion_on']:.0f}°",
                    f"a median score of {effect['paper_postural_on_median']:.0f}"):
         assert quoted in text, quoted
+
+
+def test_readme_knee_height_postures_quote_the_committed_result():
+    table = pd.read_csv(ROOT / "results" / "validation" / "knee_height.csv")
+    feasible = table[table["feasible"] == 1]
+    text = " ".join(README.split("<!-- knee-height")[1].split("-->", 1)[1].split()[:12])
+    for column, label in (("knee_flexion", "knee"), ("hip_flexion", "hip"),
+                          ("lumbar_flexion", "lumbar")):
+        low, high = feasible[column].min(), feasible[column].max()
+        assert f"{label} {low:.0f}–{high:.0f}°" in text, column
+    index = feasible["postural_index"]
+    assert f"postural index {index.min():.2f}–{index.max():.2f}" in text
+    assert set(table["worker"]) == {"p5-female", "p50-female", "p50-male", "p95-male"}

@@ -1,15 +1,15 @@
-"""Does the twin's cost have a squat in it? Solve low box locations from three whole-body
-starting strategies — standing (stoop), semi-squat and squat — and print where each ends.
+"""Where does each whole-body strategy end for a low box, and which one does the twin keep?
 
-Usage: python experiments/analysis/knee_strategies.py [--iterations 200]
+Usage: python experiments/analysis/knee_strategies.py [--iterations 200] [--percentile p50-male]
 
-Each location is solved to convergence from each start with the default solver; the table
-gives the final cost (the solver's own objective), the worse hand's error and the knee, hip,
-lumbar and ankle angles. If every start ends in the same straight-legged posture at the same
-cost, a semi-squat is not a local minimum of the cost: starting the solver elsewhere (a
-lattice of strategies) cannot give a low box a human mix of knee and hip flexion, and the cost
-itself needs a term that makes people bend their knees (the load on the lower back). A figure,
-not a test.
+Boxes in front of the feet (the mean ankle-to-box gap people leave, Potvin & Bent 1997) from the
+floor to elbow height are solved to convergence from each strategy of the solver's
+``STRATEGY_DEG`` (stoop, semi-squat, squat). The table gives each one's final cost (the solver's
+own objective), the worse hand's error, the knee, hip, lumbar and ankle angles and the postural
+index (knee flexion / (ankle + hip + lumbar flexion); ~0 stoop, ~1 full squat, Burgess-Limerick
+& Abernethy 1997). A star marks the strategy the warm-start lattice would keep: the first,
+unless a later one is lower by more than ``STRATEGY_TIE``. Strategies that end in the same
+posture share one basin of the cost. A figure, not a test.
 """
 
 from __future__ import annotations
@@ -18,54 +18,49 @@ import argparse
 
 import numpy as np
 
-from ergohandover.study.validation import GAP_M  # the mean ankle-to-box gap people leave
-from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.study.validation import GAP_M
+from ergohandover.twin.anthropometry import PERCENTILES, BodySpec
 from ergohandover.twin.evaluate import Evaluator, posture_solver
-from ergohandover.twin.tasks import stack_tasks
+from ergohandover.twin.solver import STRATEGY_TIE
 
-# Starting strategies: joint -> angle [deg] on top of the solver's standing start.
-STRATEGIES = {
-    "standing (stoop)": {},
-    "semi-squat": {"knee_flexion": 60, "hip_flexion": 60, "ankle_flexion": 15,
-                   "lumbar_flexion": 20},
-    "squat": {"knee_flexion": 110, "hip_flexion": 100, "ankle_flexion": 20,
-              "lumbar_flexion": 20},
-}
 JOINTS = ("knee_flexion", "hip_flexion", "lumbar_flexion", "ankle_flexion")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--iterations", type=int, default=200)
+    parser.add_argument("--percentile", choices=list(PERCENTILES), default="p50-male")
     args = parser.parse_args()
-    body = BodySpec()
+    body = BodySpec.from_percentile(args.percentile)
     solver = posture_solver(Evaluator(body))
-    model, weights = solver.model, solver.weights
+    model, seg = solver.model, body.segments()
     near = GAP_M + solver.task.box_depth / 2.0
-    heights = (solver.task.box_height / 2.0, 0.30, body.segments().knee_height, 0.70, 0.90)
+    heights = (solver.task.box_height / 2.0, 0.30, seg.knee_height, 0.70,
+               seg.shoulder_height - seg.upper_arm_length)
     locations = np.array([[0.0, y, near] for y in heights])
-    targets = solver.targets(locations)
-    half = solver.task.box_mass_kg / 2.0
-    print(f"box centre {near:.3f} m in front of the ankles; {args.iterations} iterations")
-    print(f"{'start':>17} {'height':>7} {'cost':>7} {'error':>6} "
-          + " ".join(f"{j.split('_')[0]:>7}" for j in JOINTS) + "   [m, 1, cm, deg]")
-    for name, angles in STRATEGIES.items():
-        start = solver.standing.copy()
-        for joint, deg in angles.items():
-            start[model.index(joint)] = np.radians(deg)
-        start = np.clip(start, model.lower, model.upper)
-        solution = solver.iterate(locations, np.broadcast_to(start, (len(locations), model.nq)),
-                                  args.iterations)
-        _, res, w = stack_tasks(model.forward(solution.q), targets, weights, solver.sight,
-                                solver.eye_cone, solver.support, weights.balance_margin,
-                                {"left_grip": half, "right_grip": half})
-        prefs = ((solution.q - solver.neutral) ** 2) @ solver.preference
-        cost = 0.5 * ((res ** 2) @ w + prefs)
-        for k, y in enumerate(heights):
-            values = " ".join(f"{np.degrees(solution.q[k, model.index(j)]):7.1f}"
-                              for j in JOINTS)
-            print(f"{name:>17} {y:7.3f} {cost[k]:7.3f} {solution.hand_error[k] * 100:6.2f} "
-                  f"{values}")
+    runs = {}
+    for name in solver.settings.strategies:
+        start = np.broadcast_to(solver.strategy_start(name), (len(locations), model.nq))
+        solution = solver.iterate(locations, start, args.iterations)
+        runs[name] = (solution, solver.cost(locations, solution.q))
+    # As the lattice keeps a node: the first strategy, unless a later one is clearly lower.
+    costs = [cost for _, cost in runs.values()]
+    best = np.zeros(len(locations), dtype=int)
+    for s, cost in enumerate(costs[1:], start=1):
+        best = np.where(cost < np.choose(best, costs) - STRATEGY_TIE, s, best)
+    print(f"{args.percentile}: box centre {near:.3f} m in front of the ankles; "
+          f"{args.iterations} iterations")
+    print(f"{'start':>11} {'height':>7} {'cost':>7} {'error':>6} "
+          + " ".join(f"{j.split('_')[0]:>7}" for j in JOINTS) + "   index  [m, 1, cm, deg, 1]")
+    for k, y in enumerate(heights):
+        for s, (name, (solution, cost)) in enumerate(runs.items()):
+            deg = {j: np.degrees(solution.q[k, model.index(j)]) for j in JOINTS}
+            bend = deg["ankle_flexion"] + deg["hip_flexion"] + deg["lumbar_flexion"]
+            # Standing upright the index is 0/0: shown only once the body bends.
+            index = f"{deg['knee_flexion'] / bend:5.2f}" if bend > 10.0 else "    -"
+            mark = "*" if s == best[k] else " "
+            print(f"{name:>10}{mark} {y:7.3f} {cost[k]:7.3f} {solution.hand_error[k] * 100:6.2f} "
+                  + " ".join(f"{deg[j]:7.1f}" for j in JOINTS) + f"   {index}")
 
 
 if __name__ == "__main__":

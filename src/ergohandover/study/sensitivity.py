@@ -2,7 +2,8 @@
 the angle convention, and what each does to the minima, the optimum and the study's conclusion.
 
 A variant changes one thing of the default :class:`~ergohandover.twin.evaluate.Evaluator`:
-a solver cost weight (×0.5, ×2), the joint preferences, the gaze task, the joint limits, the
+a solver cost weight (×0.5, ×2), the joint preferences, the knee strategy (one whole-body
+strategy alone, no effort task, no hamstrings' limit), the gaze task, the joint limits, the
 trunk-angle convention, or the box. :func:`sensitivity_row` summarises its landscape: the
 minimum of each objective and the share of feasible points at it, the optimum (the most
 symmetric minimiser of the paper score, the study's rule), its shift from the default's optimum
@@ -20,10 +21,12 @@ import numpy as np
 from ..landscape.cache import Landscape
 from ..landscape.stats import minimisers, optimum
 from ..twin.evaluate import Evaluator, evaluate_arrays
+from ..twin.solver import STRATEGY_DEG
 from .baselines import PAPER_STARTS, shortest_distance
 
 OBJECTIVES = ("paper_postural", "reba", "rula")
-SOLVER_WEIGHTS = ("hand", "palm", "gaze", "balance")
+SOLVER_WEIGHTS = ("hand", "palm", "gaze", "balance", "effort", "hamstring_stiffness")
+SUSTAINED_FREE_SHARE = 0.079  # endurance limit of sustained static holds (Björkstén & Jonsson 1977)
 FACTORS = (0.5, 2.0)
 LEGS = ("ankle_flexion", "knee_flexion", "hip_flexion")
 
@@ -61,6 +64,13 @@ def variants(base: Evaluator) -> list[Variant]:
     margin = base.settings.balance_margin
     out += [Variant("solver weight", f"balance margin x{f:g}", {"balance_margin": margin * f})
             for f in FACTORS]
+    out.append(Variant("solver weight", "effort free share 7.9% (sustained holds)",
+                       {"effort_free": SUSTAINED_FREE_SHARE}))
+    out += [Variant("knee strategy", f"{name} start only", {"strategies": (name,)})
+            for name in STRATEGY_DEG]
+    out.append(Variant("knee strategy", "no effort task (the straight-legged twin)",
+                       {"effort": 0.0}))
+    out.append(Variant("knee strategy", "no hamstrings' limit", {"hamstring_stiffness": 0.0}))
     out += [Variant("joint preference", f"all joints x{f:g}", {"preference_scale": f})
             for f in FACTORS]
     out += [Variant("joint preference", f"ankle+knee+hip x{f:g}",

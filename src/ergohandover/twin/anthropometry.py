@@ -229,6 +229,28 @@ _ARM_LIMITS = {
     "wrist_deviation": (-20.0, 30.0),  # radial 20, ulnar 30
 }
 
+# Extensor strength of the joints that hold a load in front of the body, for the solver's effort
+# task. Hip and knee: peak isometric moment as a fraction of body weight x stature, young adults
+# (Anderson, Madigan & Nussbaum 2007, J Biomech 40:3105-3113, Table 3; read as coded in rbdl's
+# Millard2016TorqueMuscle). Lower back: static torso extension of men at 20 deg of trunk flexion,
+# 288 N m (Chaffin, Andersson & Martin 1999, Occupational Biomechanics, Table 4.5; read as
+# quoted in J Electromyogr Kinesiol 2012;22:814, Table 2); the source gives one value, so it is
+# scaled here by body weight x stature relative to the ANSUR II 50th-percentile man (an
+# assumption, not a published ratio).
+_STRENGTH_FRACTION = {"male": {"hip_flexion": 0.161, "knee_flexion": 0.163},
+                      "female": {"hip_flexion": 0.181, "knee_flexion": 0.159}}
+LUMBAR_STRENGTH_NM = 288.0
+# The hamstrings' passive length, as a line in (knee flexion, hip flexion) on which hip flexion
+# stops [deg]: 61 +/- 6.7 with the knee straight (passive straight-leg raise, pelvis strapped)
+# and, at 90 of hip flexion, the knee straightens to 31 +/- 7.5 of flexion and no further
+# (passive knee extension test): Gajdosik et al. 1993, J Orthop Sports Phys Ther 18:614-618,
+# 30 men. Straight between the two points (constant moment arms, an assumption), up to the
+# hip's own limit. Women are ~8 deg more flexible (Youdas et al. 2005, J Orthop Sports Phys Ther
+# 35:246); one line serves both sexes, the men's.
+HAMSTRING_HIP_AT_STRAIGHT_KNEE_DEG = 61.0
+HAMSTRING_KNEE_AT_HIP_90_DEG = 31.0
+GRAVITY = 9.81
+
 
 def _check_range(field: str, value: object, valid: tuple[float, float], unit: str) -> None:
     """Raise BodySpecError unless ``value`` is a finite real number within ``valid``."""
@@ -305,6 +327,22 @@ class BodySpec:
         """
         total = sum(f * (2 if n in PAIRED_SEGMENTS else 1) for n, (f, _) in _MASS.items())
         return {n: SegmentMass(self.mass_kg * f / total, c) for n, (f, c) in _MASS.items()}
+
+    def joint_strengths_nm(self) -> dict[str, float]:
+        """Extensor strength [N m] of the knee, hip and lower back (``lumbar_flexion``)."""
+        weight_height = self.mass_kg * GRAVITY * self.stature_m
+        stature, mass, _ = PERCENTILES["p50-male"]
+        reference = mass * GRAVITY * stature
+        out = {j: f * weight_height for j, f in _STRENGTH_FRACTION[self.sex].items()}
+        out["lumbar_flexion"] = LUMBAR_STRENGTH_NM * weight_height / reference
+        return out
+
+    @staticmethod
+    def hamstring_line() -> tuple[float, float]:
+        """Hip flexion where the hamstrings stop it with the knee straight [rad], and how much
+        more each radian of knee flexion allows [1]."""
+        hip0 = HAMSTRING_HIP_AT_STRAIGHT_KNEE_DEG
+        return math.radians(hip0), (90.0 - hip0) / HAMSTRING_KNEE_AT_HIP_90_DEG
 
     def joint_limits_deg(self) -> dict[str, tuple[float, float]]:
         """Lower and upper joint limits [deg], positive in the named direction.

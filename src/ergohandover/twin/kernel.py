@@ -29,8 +29,18 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernel_tasks import JIT, ROWS, jacobian, residuals, row_touches, row_weights
+from .kernel_tasks import (
+    GRAVITY,
+    JIT,
+    ROWS,
+    effort_relations,
+    jacobian,
+    residuals,
+    row_touches,
+    row_weights,
+)
 from .skeleton import PALM_NORMAL
+from .tasks import EFFORT_JOINTS
 
 LAM_MIN, LAM_MAX = 1e-6, 1e6  # the damping's range, as in PostureSolver.iterate_numpy
 
@@ -168,7 +178,8 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
     n, nq = starts.shape
     n_links, n_mass = kin[2].shape[0], kin[4].shape[0]
     scratch = (np.empty((n_links, 3)), np.empty((n_links, 3, 3)), np.empty((nq, 3)),
-               np.empty((nq, 3)), np.empty((n_mass, 3)), np.empty((4, 3)))
+               np.empty((nq, 3)), np.empty((n_mass, 3)), np.empty((4, 3)),
+               np.empty((task[5].shape[0] + 1, 4)), np.empty((n_links, 4)))
     work = (np.zeros((nq, ROWS)), np.empty(ROWS), np.zeros((nq, ROWS)),
             np.empty((ROWS, ROWS)), np.empty(ROWS), np.empty(nq), np.empty(nq), np.empty(nq),
             np.empty(nq))
@@ -209,11 +220,17 @@ class PackedSolver:
     Attributes:
         kin: steps (S, 4) int, geometry (S, 4), ancestors (L, nq) bool, limits (4, nq) =
             lower, upper, neutral, preference [rad, 1], mass links (P,), masses (P, 4) =
-            offset [m] and mass [kg], span (nq, 2) = the task rows each joint can move.
+            offset [m] and mass [kg], span (nq, 2) = the task rows each joint can move,
+            joint children (nq,) = the link each joint turns.
         task: links (5,) = left grip, left hand, right grip, right hand, gaze; vectors (5, 3)
-            = palm normals, medial directions, line of sight; scalars (8,) = eye cone [rad],
-            safe rectangle x0, x1, y0, y1 [m], damping, largest step [rad], total mass [kg];
-            root weights (ROWS,) and weights (ROWS,).
+            = palm normals, medial directions, line of sight; scalars (12,) = eye cone [rad],
+            safe rectangle x0, x1, y0, y1 [m], damping, largest step [rad], total mass [kg],
+            free share of strength [1], the hamstrings' line (hip flexion at a straight knee
+            [rad], slope [1]) and strain per radian beyond it [1/rad]; root weights (ROWS,)
+            and weights (ROWS,); the effort joints (E,: knee, hip, lumbar, the order the
+            hamstrings' term relies on), g / their strength (E,) [1/(kg m)], their relations
+            (E, nq), the masses each does not carry (E, K; -1 pads) and the mass it does carry
+            (E,) [kg].
     """
 
     def __init__(self, solver) -> None:
@@ -239,21 +256,32 @@ class PackedSolver:
         links = np.array([model.link_index(n) for n in
                           ("left_grip", "left_hand", "right_grip", "right_hand", "gaze")],
                          np.int64)
-        touches = row_touches(model.ancestors, links, mass_link).T  # (nq, ROWS)
+        effort_joints = np.array([model.index(j) for j in EFFORT_JOINTS], np.int64)
+        relations = effort_relations(model.ancestors, model.joint_children, effort_joints)
+        touches = row_touches(model.ancestors, links, mass_link, relations).T  # (nq, ROWS)
         span = np.zeros((self.nq, 2), np.int64)
         for j in range(self.nq):
             rows = np.flatnonzero(touches[j])
             span[j] = (rows[0], rows[-1] + 1) if len(rows) else (0, 0)
         self.kin = (kin_steps, geometry, model.ancestors.copy(), limits, mass_link, mass_geom,
-                    span)
+                    span, model.joint_children.astype(np.int64))
         vectors = np.array([PALM_NORMAL["left"], PALM_NORMAL["right"], (0.0, -1.0, 0.0),
                             (0.0, 1.0, 0.0), solver.sight], dtype=float)
         x0, x1, y0, y1 = solver.support
         m = s.balance_margin
         scalars = np.array([solver.eye_cone, x0 + m, x1 - m, y0 + m, y1 - m, s.damping,
-                            np.radians(s.max_step_deg), mass_geom[:, 3].sum()])
+                            np.radians(s.max_step_deg), mass_geom[:, 3].sum(), s.effort_free,
+                            *solver.hamstring])
         weights = row_weights(s)
-        self.task = (links, vectors, scalars, np.sqrt(weights), weights)
+        scale = np.array([GRAVITY / solver.strengths[j] for j in EFFORT_JOINTS])
+        carries = model.ancestors[mass_link][:, effort_joints].T  # (E, P)
+        outside = np.full((len(effort_joints), max(1, (~carries).sum(axis=1).max())), -1,
+                          np.int64)
+        for k, row in enumerate(~carries):
+            outside[k, :row.sum()] = np.flatnonzero(row)
+        carried = carries.astype(float) @ mass_geom[:, 3]
+        self.task = (links, vectors, scalars, np.sqrt(weights), weights, effort_joints, scale,
+                     relations, outside, carried)
 
     def run(self, targets: np.ndarray, start: np.ndarray, iterations: int):
         """Solve (N, 3, 3) targets from (N, nq) starts.

@@ -6,8 +6,8 @@ these loops carry no temporaries. The mathematics is that of the numpy modules (
 lever arms, hinge tasks); only the order of the task rows differs, chosen so that the rows a
 joint can move form one contiguous range (see :func:`row_touches`):
 
-    rows 0-2 left grip, 3-5 left palm normal, 6-7 balance (x, y), 8 gaze,
-    rows 9-11 right grip, 12-14 right palm normal.
+    rows 0-2 left grip, 3-5 left palm normal, 6-7 balance (x, y), 8 effort, 9 gaze,
+    rows 10-12 right grip, 13-15 right palm normal.
 
 Residuals and the Jacobian are separate calls: a trial step that is rejected never needs its
 Jacobian, and ``_jacobian`` reuses the scratch ``_residuals`` left (frames, palm normals, the
@@ -21,27 +21,41 @@ import math
 import numpy as np
 from numba import njit
 
-ROWS = 15
-GRIP_ROW, PALM_ROW = (0, 9), (3, 12)  # first row of each side's task
-BALANCE_ROW, GAZE_ROW = 6, 8
+ROWS = 16
+GRIP_ROW, PALM_ROW = (0, 10), (3, 13)  # first row of each side's task
+BALANCE_ROW, EFFORT_ROW, GAZE_ROW = 6, 8, 9
+GRAVITY = 9.81  # [m/s²], as in :mod:`.tasks`
 JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
 def row_weights(settings) -> np.ndarray:
     """(ROWS,) task weights in the kernel's row order."""
     hand, palm = [settings.hand] * 3, [settings.palm] * 3
-    return np.array([*hand, *palm, settings.balance, settings.balance, settings.gaze,
-                     *hand, *palm])
+    return np.array([*hand, *palm, settings.balance, settings.balance, settings.effort,
+                     settings.gaze, *hand, *palm])
 
 
-def row_touches(ancestors: np.ndarray, links: np.ndarray, mass_links: np.ndarray) -> np.ndarray:
+def effort_relations(ancestors: np.ndarray, children: np.ndarray,
+                     joints: np.ndarray) -> np.ndarray:
+    """(E, nq) int64: 1 where joint i lies below effort joint J (it turns J's whole load), 2
+    where it lies at or above J (it turns part of the load J carries), 0 otherwise."""
+    below = ancestors[children[joints]].copy()  # (E, nq)
+    below[np.arange(len(joints)), joints] = False
+    above = ancestors[children][:, joints].T  # (E, nq), J itself included
+    return np.where(below, 1, np.where(above, 2, 0)).astype(np.int64)
+
+
+def row_touches(ancestors: np.ndarray, links: np.ndarray, mass_links: np.ndarray,
+                relations: np.ndarray) -> np.ndarray:
     """(ROWS, nq) bool: can joint j move task row r? From ``model.ancestors`` (L, nq).
 
-    ``links``: left grip, left hand, right grip, right hand, gaze; ``mass_links`` (P,).
+    ``links``: left grip, left hand, right grip, right hand, gaze; ``mass_links`` (P,);
+    ``relations``: :func:`effort_relations`.
     """
     left_grip, left_hand, right_grip, right_hand, gaze = (ancestors[k] for k in links)
     com = ancestors[mass_links].any(axis=0)
-    return np.array([left_grip] * 3 + [left_hand] * 3 + [com] * 2 + [gaze]
+    effort = (relations != 0).any(axis=0)
+    return np.array([left_grip] * 3 + [left_hand] * 3 + [com] * 2 + [effort, gaze]
                     + [right_grip] * 3 + [right_hand] * 3)
 
 
@@ -114,7 +128,8 @@ def residuals(q, target, kin, task, scratch, res):
     """
     steps, geometry, limits, mass_link, mass_geom = kin[0], kin[1], kin[3], kin[4], kin[5]
     links, vectors, scalars, weight = task[0], task[1], task[2], task[4]
-    pos, rot, axes, jpos, where, vec = scratch
+    effort_joints, effort_scale = task[5], task[6]
+    pos, rot, axes, jpos, where, vec, eff = scratch[:7]
     forward(q, steps, geometry, pos, rot, axes, jpos)
     for side in range(2):
         grip, hand = links[2 * side], links[2 * side + 1]
@@ -153,6 +168,41 @@ def residuals(q, target, kin, task, scratch, res):
     for c in range(2):
         res[BALANCE_ROW + c] = centre[c] - min(max(centre[c], scalars[1 + 2 * c]),
                                                scalars[2 + 2 * c])
+    # Effort: each joint's load beyond the free share of its strength, as in tasks.effort;
+    # eff[k] keeps c = a_J x S_J and e_J * g / strength for the Jacobian.
+    # S_J = (all masses' moment - those J does not carry) - M_J p_J: the few masses below J
+    # (feet, shanks, ...) are listed in ``outside``, so no loop runs over every mass.
+    outside, carried = task[8], task[9]
+    squares = 0.0
+    for k in range(effort_joints.shape[0]):
+        joint = effort_joints[k]
+        sx, sy, sz = centre[0] * scalars[7], centre[1] * scalars[7], centre[2] * scalars[7]
+        for i in range(outside.shape[1]):
+            p = outside[k, i]
+            if p < 0:
+                break
+            m = mass_geom[p, 3]
+            sx -= m * where[p, 0]
+            sy -= m * where[p, 1]
+            sz -= m * where[p, 2]
+        sx -= carried[k] * jpos[joint, 0]
+        sy -= carried[k] * jpos[joint, 1]
+        sz -= carried[k] * jpos[joint, 2]
+        ax, ay, az = axes[joint, 0], axes[joint, 1], axes[joint, 2]
+        cx, cy, cz = ay * sz - az * sy, az * sx - ax * sz, ax * sy - ay * sx
+        share = cz * effort_scale[k]
+        e = max(abs(share) - scalars[8], 0.0)
+        if share < 0.0:
+            e = -e
+        eff[k, 0], eff[k, 1], eff[k, 2], eff[k, 3] = cx, cy, cz, e * effort_scale[k]
+        squares += e * e
+    # The hamstrings' stretch beyond their passive line (effort_joints: knee, hip, lumbar);
+    # eff[E, 0] keeps it for the Jacobian.
+    knee, hip = effort_joints[0], effort_joints[1]
+    stretch = scalars[11] * max(q[hip] - scalars[9] - scalars[10] * q[knee], 0.0)
+    eff[effort_joints.shape[0], 0] = stretch
+    squares += stretch * stretch
+    res[EFFORT_ROW] = math.sqrt(squares)
     tasks = 0.0
     for r in range(ROWS):
         tasks += res[r] * res[r] * weight[r]
@@ -171,12 +221,29 @@ def jacobian(kin, task, scratch, res, jt):
     of the centre of mass, axis_j x the mass-weighted lever arm of the masses joint j moves.
     Hinge rows (gaze, balance) that hold have zero rows.
     """
-    anc, mass_link, mass_geom = kin[2], kin[4], kin[5]
+    steps, anc, mass_link, mass_geom, joint_child = kin[0], kin[2], kin[4], kin[5], kin[7]
     links, total = task[0], task[2][7]
+    effort_joints, relations = task[5], task[7]
     pos, axes, jpos, where, vec = scratch[0], scratch[2], scratch[3], scratch[4], scratch[5]
+    eff, sums = scratch[6], scratch[7]
     jt[:, :] = 0.0
     gaze, looking = links[4], res[GAZE_ROW] > 0.0
     out_x, out_y = res[BALANCE_ROW] != 0.0, res[BALANCE_ROW + 1] != 0.0
+    effort = res[EFFORT_ROW]
+    levers = out_x or out_y or effort > 0.0
+    if levers:
+        # Each link's subtree: its masses' moment Σ m p and mass Σ m, summed from the leaves
+        # up (steps are in tree order), so every joint's lever arm costs O(1) below.
+        sums[:, :] = 0.0
+        for p in range(mass_link.shape[0]):
+            link, m = mass_link[p], mass_geom[p, 3]
+            for c in range(3):
+                sums[link, c] += m * where[p, c]
+            sums[link, 3] += m
+        for st in range(steps.shape[0] - 1, -1, -1):
+            parent, child = steps[st, 0], steps[st, 1]
+            for c in range(4):
+                sums[parent, c] += sums[child, c]
     for j in range(jt.shape[0]):
         ax, ay, az = axes[j, 0], axes[j, 1], axes[j, 2]
         for side in range(2):
@@ -194,19 +261,32 @@ def jacobian(kin, task, scratch, res, jt):
                 jt[j, row + 2] = ax * ny - ay * nx
         if looking and anc[gaze, j]:
             jt[j, GAZE_ROW] = -(vec[2, 0] * ax + vec[2, 1] * ay + vec[2, 2] * az)
-        if out_x or out_y:
-            sub_mass, mx, my, mz = 0.0, 0.0, 0.0, 0.0
-            for p in range(mass_link.shape[0]):
-                if anc[mass_link[p], j]:
-                    m = mass_geom[p, 3]
-                    sub_mass += m
-                    mx += m * where[p, 0]
-                    my += m * where[p, 1]
-                    mz += m * where[p, 2]
-            lx = (mx - sub_mass * jpos[j, 0]) / total
-            ly = (my - sub_mass * jpos[j, 1]) / total
-            lz = (mz - sub_mass * jpos[j, 2]) / total
+        if levers:
+            # The subtree's mass-weighted lever arm about joint j, S_j [kg m].
+            c = joint_child[j]
+            sx = sums[c, 0] - sums[c, 3] * jpos[j, 0]
+            sy = sums[c, 1] - sums[c, 3] * jpos[j, 1]
+            sz = sums[c, 2] - sums[c, 3] * jpos[j, 2]
             if out_x:
-                jt[j, BALANCE_ROW] = ay * lz - az * ly
+                jt[j, BALANCE_ROW] = (ay * sz - az * sy) / total
             if out_y:
-                jt[j, BALANCE_ROW + 1] = az * lx - ax * lz
+                jt[j, BALANCE_ROW + 1] = (az * sx - ax * sz) / total
+            if effort > 0.0:
+                # d(sqrt(sum e_J^2)) = sum (e_J g / strength_J) dc_Jz / effort.
+                d = 0.0
+                for k in range(effort_joints.shape[0]):
+                    relation, coef = relations[k, j], eff[k, 3]
+                    if relation == 0 or coef == 0.0:
+                        continue
+                    if relation == 1:  # j below J turns c_J whole: (a_j x c_J)_z
+                        d += coef * (ax * eff[k, 1] - ay * eff[k, 0])
+                    else:  # j at or above J turns its own subtree: (a_J x (a_j x S_j))_z
+                        tx, ty = ay * sz - az * sy, az * sx - ax * sz
+                        joint = effort_joints[k]
+                        d += coef * (axes[joint, 0] * ty - axes[joint, 1] * tx)
+                jt[j, EFFORT_ROW] = d / effort
+    stretch = eff[effort_joints.shape[0], 0]
+    if stretch > 0.0:  # the hamstrings' term: d(stretch)/d(hip) = stiffness, /d(knee) = -slope x it
+        coef = stretch * task[2][11] / effort
+        jt[effort_joints[1], EFFORT_ROW] += coef
+        jt[effort_joints[0], EFFORT_ROW] -= coef * task[2][10]

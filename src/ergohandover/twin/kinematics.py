@@ -69,6 +69,7 @@ class KinematicModel:
         link_mass: (L,) link masses [kg]; ``total_mass`` is their sum [kg].
         ancestors: (L, nq) bool, True where joint j moves link l.
         steps: the joints in tree order as :class:`JointStep` (what the compiled solver packs).
+        joint_children: (nq,) the link each movable joint turns.
         mass_points: (link index, COM offset as (component, value) pairs) of each link with
             mass.
     """
@@ -102,6 +103,8 @@ class KinematicModel:
             sign = float(np.sign(joint.axis[axis]))
             self.steps.append(JointStep(parent, child, _sparse(joint.origin), col, axis, sign))
         self._signs = np.array([st.sign for st in self.steps if st.col >= 0])  # (nq,)
+        # The link each movable joint turns, in q-column order.
+        self.joint_children = np.array([st.child for st in self.steps if st.col >= 0])
 
     @property
     def nq(self) -> int:
@@ -183,7 +186,7 @@ class KinematicState:
         self.model, self.q = model, q  # q: (N, nq) [rad]
         self._pos, self._rot, self._axes = pos, rot, axes  # (L, 3, N), (L, 3, 3, N), (nq, 3, N)
         # A joint sits on its child's origin.
-        self._joint_pos = pos[[st.child for st in model.steps if st.col >= 0]]  # (nq, 3, N)
+        self._joint_pos = pos[model.joint_children]  # (nq, 3, N)
 
     @property
     def positions(self) -> np.ndarray:
@@ -266,17 +269,28 @@ class KinematicState:
         mass, where, _ = self._masses(extra)
         return (np.einsum("pn,pcn->cn", mass, where) / mass.sum(axis=0)).T
 
+    @property
+    def joint_axes(self) -> np.ndarray:
+        """(nq, 3, N) the joints' world axes (a view)."""
+        return self._axes
+
+    def subtree_levers(self, extra: ExtraMasses | None = None) -> np.ndarray:
+        """(nq, 3, N) Σ m (c − p_j) over the masses that joint j moves [kg m]: the
+        mass-weighted lever arm of its subtree about the joint (``extra`` as in :meth:`com`)."""
+        mass, where, links = self._masses(extra)
+        moved = self.model.ancestors[links].T.astype(float)  # (nq, P)
+        sub_mass = moved @ mass  # (nq, N)
+        sub_moment = np.tensordot(moved, mass[:, None] * where, axes=(1, 0))  # (nq, 3, N)
+        return sub_moment - sub_mass[:, None] * self._joint_pos
+
     def com_jacobian(self, extra: ExtraMasses | None = None) -> np.ndarray:
         """(N, 3, nq) Jacobian of ``com(extra)`` [m/rad] (a view).
 
         Column j is axis_j × Σ m (c − p_j) / M over the masses that joint j moves: the
         mass-weighted lever arm of its subtree.
         """
-        mass, where, links = self._masses(extra)
-        moved = self.model.ancestors[links].T.astype(float)  # (nq, P)
-        sub_mass = moved @ mass  # (nq, N)
-        sub_moment = np.tensordot(moved, mass[:, None] * where, axes=(1, 0))  # (nq, 3, N)
-        lever = sub_moment - sub_mass[:, None] * self._joint_pos
+        mass = self._masses(extra)[0]
+        lever = self.subtree_levers(extra)
         lever /= mass.sum(axis=0)
         return self._cross_jacobian(self._axes, lever, np.arange(self.model.nq))
 

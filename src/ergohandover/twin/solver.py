@@ -10,8 +10,16 @@ weighted sum of squares:
   (only when the task's ``gaze`` is "on", the default);
 - **balance** (``balance``): the centre of mass, the box's weight in the hands included, kept
   ``balance_margin`` inside the feet's support rectangle (a hinge: no cost inside it);
+- **effort** (``effort``): the load gravity puts on the knee, hip and lower-back extensors beyond
+  ``effort_free`` of each one's strength, and the hamstrings' stretch beyond their passive
+  length (a hip flexed past what the knee's flexion allows); this is what bends the knees to a
+  low box (:func:`.tasks.effort`);
 - **joint preference** (``JOINT_PREFERENCE``): each joint pulled toward its neutral angle with
   its own weight; these make the motion humanlike (see the table's comments).
+
+Low boxes have more than one local minimum (a stoop, a semi-squat, a squat): the warm-start
+lattice is solved from each whole-body strategy of ``STRATEGY_DEG`` and keeps, node by node,
+the posture of lowest cost.
 
 Levenberg-Marquardt with a damping per location: a step that raises the cost is rejected and
 the damping raised, so the stiff hand task and the soft preferences cannot make the iteration
@@ -69,6 +77,19 @@ JOINT_PREFERENCE: dict[str, tuple[float, float]] = {
 }
 # Where the lattice's solves start: standing, upper arms slightly forward, forearms forward.
 START_POSTURE_DEG = {"shoulder_flexion": 20.0, "elbow_flexion": 80.0}
+# Whole-body strategies for a low box, as joint angles [deg] added to the standing start. People
+# lifting freely use neither a pure stoop (knees straight) nor a pure squat (knees fully bent)
+# but something between (Burgess-Limerick & Abernethy 1997, Hum Factors 39:141; Davis,
+# Splittstoesser & Marras 2003, Occup Ergon 3:99); the cost has a local minimum near each, so
+# every lattice node is solved from each strategy and keeps the one of lowest cost.
+STRATEGY_TIE = 1e-3  # cost difference below which two strategies' postures count as one [1]
+STRATEGY_DEG: dict[str, dict[str, float]] = {
+    "stoop": {},
+    "semi-squat": {"ankle_flexion": 15.0, "knee_flexion": 50.0, "hip_flexion": 50.0,
+                   "lumbar_flexion": 30.0},
+    "squat": {"ankle_flexion": 20.0, "knee_flexion": 100.0, "hip_flexion": 90.0,
+              "lumbar_flexion": 20.0},
+}
 BACKENDS = ("numba", "numpy")
 SIGHT_PITCH_DEG = 15.0  # natural line of sight below the head's horizontal (Grandjean)
 EYE_CONE_DEG = 25.0  # eye rotation from the natural line of sight held without strain
@@ -102,20 +123,29 @@ class SolverSettings:
         gaze: weight of the line of sight beyond the eyes' cone [1/rad²].
         balance: weight of the centre-of-mass hinge [1/m²].
         balance_margin: how far inside the support rectangle the hinge starts [m].
+        effort: weight of the load on the knees, hips and lower back beyond ``effort_free`` of
+            their strength [1] (the task that makes the twin bend its knees to a low box).
+        effort_free: the share of each joint's strength held at no cost [1]: 0.14, the
+            endurance limit of intermittent static contractions held for an hour (Björkstén &
+            Jonsson 1977, Scand J Work Environ Health 3:23-27; 7.9% for sustained ones).
+        hamstring_stiffness: the effort task's strain per radian of hip flexion beyond the
+            hamstrings' passive line (:meth:`BodySpec.hamstring_line`) [1/rad].
         damping: initial Levenberg-Marquardt damping [1].
         max_step_deg: largest change of any joint in one iteration [deg].
         iterations: iterations from the interpolated start. 10: on 20,000 random paper-code
             locations, 99.6% score exactly as with 12 (flags, paper score, REBA, RULA) and
             97.3% as with 60 (97.6% with 12), for two iterations (a sixth of the solve) less
             (``experiments/analysis/iteration_budget.py``).
-        lattice_iterations: iterations for the lattice postures, from standing.
+        lattice_iterations: iterations for the lattice postures, from each strategy.
         preference_scale: factor on every joint-preference weight (``JOINT_PREFERENCE``).
         joint_preference_scales: (joint, factor) pairs on single joints' preference weights,
             joints named as in ``JOINT_PREFERENCE`` (both sides for an arm joint).
         range_of_motion: fraction of each joint's range the solver may use; both limits move
             toward 0 (the neutral stance) by this factor.
+        strategies: the whole-body strategies (``STRATEGY_DEG``) each lattice node is solved
+            from; the node keeps the posture of lowest cost.
 
-    The last three exist for the sensitivity study; at their defaults they change nothing.
+    The last four exist for the sensitivity study; at their defaults they change nothing.
     """
 
     hand: float = 1e4
@@ -123,6 +153,9 @@ class SolverSettings:
     gaze: float = 1.0
     balance: float = 1e4
     balance_margin: float = 0.02
+    effort: float = 10.0
+    effort_free: float = 0.14
+    hamstring_stiffness: float = 20.0
     damping: float = 1e-3
     max_step_deg: float = 15.0
     iterations: int = 10
@@ -131,9 +164,15 @@ class SolverSettings:
     joint_preference_scales: tuple[tuple[str, float], ...] = ()
     range_of_motion: float = ranged(1.0, "fraction of each joint's range of motion used",
                                     0.5, 1.0)
+    strategies: tuple[str, ...] = tuple(STRATEGY_DEG)
 
     def __post_init__(self):
         check_ranges(self, SolverSettingsError)
+        unknown = [n for n in self.strategies if n not in STRATEGY_DEG]
+        if unknown or not self.strategies or len(set(self.strategies)) < len(self.strategies):
+            raise SolverSettingsError(
+                f"strategies = {self.strategies!r} is not allowed (use one or more of "
+                f"{', '.join(STRATEGY_DEG)}, each once)")
         for pair in self.joint_preference_scales:
             name, factor = pair
             if name not in JOINT_PREFERENCE:
@@ -185,6 +224,8 @@ class PostureSolver:
         self.model.lower = self.model.lower * self.settings.range_of_motion
         self.model.upper = self.model.upper * self.settings.range_of_motion
         self.support = support_rectangle(self.body)
+        self.strengths = self.body.joint_strengths_nm()
+        self.hamstring = (*self.body.hamstring_line(), self.settings.hamstring_stiffness)
         base = [n.removeprefix("left_").removeprefix("right_") for n in self.model.joint_names]
         self.neutral = np.radians([JOINT_PREFERENCE[b][0] for b in base])  # (nq,)
         self.preference = (np.array([JOINT_PREFERENCE[b][1] for b in base])
@@ -199,13 +240,44 @@ class PostureSolver:
 
     @property
     def lattice(self) -> StartLattice:
-        """The warm-start lattice, solved on first use (about a thousand locations)."""
+        """The warm-start lattice, solved on first use (about two thousand locations, once
+        from each strategy of ``settings.strategies``)."""
         if self._lattice is None:
             axes, nodes = StartLattice.nodes(self.body.stature_m)
-            start = np.broadcast_to(self.standing, (len(nodes), self.model.nq))
-            q = self.iterate(nodes, start, self.settings.lattice_iterations).q
-            self._lattice = StartLattice(axes, q.reshape(*(len(a) for a in axes), -1))
+            shape = tuple(len(a) for a in axes)
+            best_q, best_cost = None, None
+            choice = np.zeros(len(nodes), dtype=np.intp)
+            for k, name in enumerate(self.settings.strategies):
+                start = np.broadcast_to(self.strategy_start(name), (len(nodes), self.model.nq))
+                q = self.iterate(nodes, start, self.settings.lattice_iterations).q
+                cost = self.cost(nodes, q)
+                if best_q is None:
+                    best_q, best_cost = q, cost
+                    continue
+                # Two strategies that end in the same basin differ in cost by rounding and
+                # unfinished convergence only; the earlier one keeps the node unless the later
+                # is clearly lower, so the recorded strategy means a different posture.
+                lower = cost < best_cost - STRATEGY_TIE
+                best_q[lower], best_cost[lower], choice[lower] = q[lower], cost[lower], k
+            self._lattice = StartLattice(axes, best_q.reshape(*shape, -1),
+                                         np.array(self.settings.strategies)[choice].reshape(shape))
         return self._lattice
+
+    def strategy_start(self, name: str) -> np.ndarray:
+        """(nq,) the standing start with strategy ``name``'s leg and trunk angles, in limits."""
+        q = self.standing.copy()
+        for joint, deg in STRATEGY_DEG[name].items():
+            q[self.model.index(joint)] = np.radians(deg)
+        return np.clip(q, self.model.lower, self.model.upper)
+
+    def cost(self, locations: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """(N,) the solver's objective at postures q (N, nq) for box ``locations`` (N, 3)."""
+        half = self.task.box_mass_kg / 2.0
+        _, res, weight = stack_tasks(
+            self.model.forward(q), self.targets(locations), self.weights, self.sight,
+            self.eye_cone, self.support, self.weights.balance_margin,
+            {"left_grip": half, "right_grip": half}, self.strengths, self.hamstring)
+        return self._cost(q, res, weight)
 
     def solve(self, locations: np.ndarray) -> Solution:
         """Postures for box centres at ``locations`` (N, 3), worker frame [m]."""
@@ -241,7 +313,8 @@ class PostureSolver:
 
         def tasks(q):
             return stack_tasks(self.model.forward(q), targets, s, self.sight, self.eye_cone,
-                               self.support, s.balance_margin, extra)
+                               self.support, s.balance_margin, extra, self.strengths,
+                               self.hamstring)
 
         q = np.array(start, dtype=float)
         jac, res, weight = tasks(q)

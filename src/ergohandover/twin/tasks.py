@@ -13,6 +13,11 @@ import numpy as np
 from .kinematics import KinematicState
 from .skeleton import PALM_NORMAL
 
+GRAVITY = 9.81  # [m/s²]
+EFFORT_JOINTS = ("knee_flexion", "hip_flexion", "lumbar_flexion")
+"""The joints whose extensors hold a load in front of the body, in the effort task's order
+(the kernel finds the hamstrings' knee and hip as the first two)."""
+
 
 class Targets(NamedTuple):
     """What the worker reaches for, world frame [m]: (N, 3) each."""
@@ -39,18 +44,23 @@ def cross_columns(vectors: np.ndarray, fixed: np.ndarray) -> np.ndarray:
 
 def stack_tasks(st: KinematicState, targets: Targets, weights, sight: np.ndarray,
                 eye_cone: float, support: tuple[float, float, float, float], margin: float,
-                extra: dict[str, float]) -> Stack:
+                extra: dict[str, float], strengths: dict[str, float],
+                hamstring: tuple[float, float, float]) -> Stack:
     """Every task of the handover posture.
 
     Args:
         st: forward kinematics of the N postures.
         targets: handles and box centre.
-        weights: an object with ``hand``, ``palm``, ``gaze``, ``balance`` weights.
+        weights: an object with ``hand``, ``palm``, ``gaze``, ``balance`` and ``effort``
+            weights and the effort task's ``effort_free`` share of strength.
         sight: (3,) natural line of sight in the ``gaze`` link frame.
         eye_cone: eye rotation held without strain [rad].
         support: (x0, x1, y0, y1) feet's support rectangle, world frame [m].
         margin: how far inside the rectangle the balance hinge starts [m].
         extra: point masses carried at links (the box, half in each hand) [kg].
+        strengths: extensor strength of each of :data:`EFFORT_JOINTS` [N m].
+        hamstring: the hamstrings' passive line, hip flexion at a straight knee [rad] and its
+            slope per radian of knee flexion [1], and the strain per radian beyond it [1/rad].
     """
     jacs, residuals, row_weights = [], [], []
 
@@ -83,5 +93,56 @@ def stack_tasks(st: KinematicState, targets: Targets, weights, sight: np.ndarray
     com = st.com(extra)[:, :2]
     outside = com - np.clip(com, [x0 + margin, y0 + margin], [x1 - margin, y1 - margin])
     add(st.com_jacobian(extra)[:, :2] * (outside != 0)[..., None], outside, weights.balance)
+    add(*effort(st, extra, strengths, weights.effort_free, hamstring), weights.effort)
     return Stack(np.concatenate(jacs, axis=1), np.concatenate(residuals, axis=1),
                  np.concatenate(row_weights))
+
+
+def effort(st: KinematicState, extra: dict[str, float], strengths: dict[str, float],
+           free: float, hamstring: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """The strain of knees, hips and lower back: the load they hold beyond a free share of
+    their strength, and the hamstrings' stretch beyond their passive length.
+
+    For each joint J of :data:`EFFORT_JOINTS`, gravity's moment about its axis from everything
+    it carries (the body above it and the box) is g c_z, with c = a_J × S_J (a_J the axis, S_J
+    the subtree's mass-weighted lever arm). Its share of the joint's strength beyond ``free``,
+    e_J, is a hinge: zero while the joint holds less. The task is one row, sqrt(Σ e_J²), whose
+    square is the cost Σ e_J². A joint below J turns c as a whole (column a_i × c); a joint at
+    or above J turns its own subtree (column a_J × (a_i × S_i)).
+
+    The hamstrings span hip and knee: hip flexion beyond ``hip0 + slope · knee flexion`` (the
+    passive line, :meth:`BodySpec.hamstring_line`) adds e_H = ``stiffness`` × the excess to the
+    sum. Without it a load on the floor is taken by hanging the trunk past horizontal with
+    straight knees, since gravity's moment about the back shrinks as the trunk hangs.
+
+    Returns:
+        Jacobian (N, 1, nq) [1/rad] and residual (N, 1) [1].
+    """
+    model = st.model
+    axes, levers = st.joint_axes, st.subtree_levers(extra)  # (nq, 3, N) each
+    n, columns = st.q.shape[0], np.arange(model.nq)
+    squares, jac = np.zeros(n), np.zeros((model.nq, n))
+    for name in EFFORT_JOINTS:
+        joint = model.index(name)
+        scale = GRAVITY / strengths[name]
+        c = np.cross(axes[joint], levers[joint], axis=0)  # (3, N)
+        share = c[2] * scale
+        e = np.sign(share) * np.maximum(np.abs(share) - free, 0.0)
+        below = model.ancestors[model.joint_children[joint]] & (columns != joint)
+        above = model.ancestors[model.joint_children, joint]  # the joint itself included
+        d = np.zeros((model.nq, n))
+        a = axes[below]
+        d[below] = a[:, 0] * c[1] - a[:, 1] * c[0]
+        turned = np.cross(axes[above], levers[above], axis=1)  # (k, 3, N)
+        d[above] = axes[joint][0] * turned[:, 1] - axes[joint][1] * turned[:, 0]
+        squares += e * e
+        jac += e * d * scale
+    hip0, slope, stiffness = hamstring
+    hip, knee = model.index("hip_flexion"), model.index("knee_flexion")
+    stretch = stiffness * np.maximum(st.q[:, hip] - hip0 - slope * st.q[:, knee], 0.0)
+    squares += stretch * stretch
+    jac[hip] += stretch * stiffness
+    jac[knee] -= stretch * stiffness * slope
+    total = np.sqrt(squares)
+    jac = np.divide(jac, total, out=np.zeros_like(jac), where=total > 0)
+    return jac.T[:, None, :], total[:, None]

@@ -13,8 +13,8 @@ import numpy as np
 
 # Lattice extent as fractions of stature (worker frame: x right, y up, z forward) and counts.
 # It covers every boundary in use with a margin; locations outside it start from its edge.
-EXTENT = {"x": (-0.28, 0.28), "y": (0.17, 1.25), "z": (0.05, 0.52)}
-COUNTS = {"x": 9, "y": 14, "z": 9}
+EXTENT = {"x": (-0.28, 0.28), "y": (0.04, 1.25), "z": (0.05, 0.52)}
+COUNTS = {"x": 9, "y": 16, "z": 9}
 
 
 class StartLattice:
@@ -23,10 +23,12 @@ class StartLattice:
     Args:
         axes: the lattice coordinates along x, y, z (worker frame) [m].
         q: (nx, ny, nz, nq) converged postures at the lattice nodes [rad].
+        strategy: (nx, ny, nz) the whole-body strategy each node's posture was solved from.
     """
 
-    def __init__(self, axes: tuple[np.ndarray, np.ndarray, np.ndarray], q: np.ndarray):
-        self.axes, self.q = axes, q
+    def __init__(self, axes: tuple[np.ndarray, np.ndarray, np.ndarray], q: np.ndarray,
+                 strategy: np.ndarray):
+        self.axes, self.q, self.strategy = axes, q, strategy
 
     @staticmethod
     def nodes(stature: float) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
