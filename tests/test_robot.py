@@ -72,13 +72,13 @@ def test_ik_puts_both_grippers_within_1cm_of_their_handles(world, postures, loca
     assert reach.reachable, reach.reason
     assert reach.reason == ""
     for arm in ARMS:
-        gripper = link_position(world, world.robot.arms[arm],
-                                world.robot.links[arm][GRASP_LINK])
+        # Read from the robot's own URDF body, not from the IK's twin arms.
+        robot, grasp = world.robot.body, world.robot.body_links[f"{arm}_{GRASP_LINK}"]
+        gripper = link_position(world, robot, grasp)
         handle = link_position(world, world.box.body_id, world.box.links[f"{arm}_robot_grasp"])
         assert np.linalg.norm(gripper - handle) < 0.01
         # The fingers close vertically: the box hangs level between them.
-        state = world.p.getLinkState(world.robot.arms[arm], world.robot.links[arm][GRASP_LINK],
-                                     physicsClientId=world.client)
+        state = world.p.getLinkState(robot, grasp, physicsClientId=world.client)
         closing = np.array(world.p.getMatrixFromQuaternion(state[5])).reshape(3, 3)[:, 1]
         assert abs(closing[2]) > math.cos(math.radians(3))
         q = reach.q[arm]

@@ -34,12 +34,16 @@ import numpy as np
 from ..errors import ConfigError
 from ..ranges import check_ranges, ranged
 from ..sim import pybullet as _pybullet
+from .robot_collision import PENETRATION, deepest_self_penetration, self_collision_pairs, touches
+from .robot_urdf import cached_robot_urdf, panda_path
 
 ARMS = {"left": 1.0, "right": -1.0}  # arm -> side of the world y axis it stands on
 ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
 GRASP_LINK = "panda_grasptarget"  # between the finger pads, 0.105 m from the hand flange
 BASE_LINK = "panda_link0"
+LIFT_JOINT = "torso_lift"
+IK_OFFSET = -100.0  # the IK twins stand this far below the floor [m]
 REASONS = ("robot_ik", "robot_joint_limit", "robot_collision_self", "robot_collision_box",
            "robot_collision_worker")
 APPROACH_YAWS_DEG = (0.0, 30.0, 60.0)
@@ -53,8 +57,6 @@ REST_LEFT = (0.0, 0.3, 0.0, -1.9, 0.0, 2.2, 0.8)
 MIRRORED = (-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0)  # joint signs of the mirrored (right) arm
 SHAPING_CALLS = 10  # first IK calls pull toward the rest pose; later ones only converge
 FINGER_CLEARANCE = 0.003  # each finger pad this far off the bar [m]
-PENETRATION = 1e-3  # deeper than this is a collision; shallower is GJK noise on meshes [m]
-STAND_RGBA = (0.55, 0.57, 0.60, 1.0)
 DEFAULT_IK_CALLS = 40
 
 
@@ -71,6 +73,8 @@ class RobotSpec:
     arm_spacing: float = ranged(1.0, "distance between the two arm bases [m]", 0.5, 2.0)
     mount_height: float = ranged(0.6, "height of the arm bases (top of the stand) [m]",
                                 0.2, 1.6)
+    lift_range: float = ranged(1.0, "travel of the vertical lift under the arm bases [m]",
+                              0.0, 1.5)
     position_tolerance: float = ranged(0.01, "largest gripper-to-handle distance [m]",
                                       0.0005, 0.05)
     angle_tolerance_deg: float = ranged(3.0, "largest gripper tilt from the level box [deg]",
@@ -149,26 +153,30 @@ class DualArmRobot:
     """
 
     def __init__(self, client: int, spec: RobotSpec | None = None):
-        import pybullet_data
-
         p = self.p = _pybullet()
         self.client, self.spec = client, spec or RobotSpec()
         s = self.spec
-        facing = p.getQuaternionFromEuler([0.0, 0.0, math.pi])  # the arms' +x toward the worker
-        path = f"{pybullet_data.getDataPath()}/franka_panda/panda.urdf"
+        # The robot's frame faces the worker: its x is the world's -x.
+        self.base_pose = (np.array([s.distance, 0.0, 0.0]), math.pi)  # world position, yaw
+        facing = p.getQuaternionFromEuler([0.0, 0.0, math.pi])
+        self.body = p.loadURDF(str(cached_robot_urdf(s)), self.base_pose[0].tolist(), facing,
+                               useFixedBase=True, physicsClientId=client)
+        self.body_joints, self.body_links = self._names(self.body, "base")
+        self.lift = 0.0
+        # PyBullet's IK runs on one plain Panda per arm, kept IK_OFFSET below the floor at its
+        # arm's base pose: the same kinematics, out of every contact test and picture.
         self.arms, self.joints, self.links = {}, {}, {}
-        for arm, side in ARMS.items():
-            body = p.loadURDF(path, [s.distance, side * s.arm_spacing / 2, s.mount_height],
-                              facing, useFixedBase=True, physicsClientId=client)
-            self.arms[arm] = body
-            self.joints[arm], self.links[arm] = self._names(body)
-        self.stand = self._stand()
+        for arm in ARMS:
+            self.arms[arm] = p.loadURDF(str(panda_path()), [0, 0, IK_OFFSET], facing,
+                                        useFixedBase=True, physicsClientId=client)
+            self.joints[arm], self.links[arm] = self._names(self.arms[arm], BASE_LINK)
+        self.set_lift(0.0)
         info = [p.getJointInfo(self.arms["left"], self.joints["left"][n], physicsClientId=client)
                 for n in ARM_JOINTS]
         self.lower = np.array([i[8] for i in info])
         self.upper = np.array([i[9] for i in info])
         self.rest = {"left": np.array(REST_LEFT), "right": np.array(REST_LEFT) * MIRRORED}
-        self._self_pairs = self._non_adjacent_pairs(self.arms["left"])
+        self._self_pairs = self_collision_pairs(p, self.body, client)
         # PyBullet's IK answers for the movable joints (arm and fingers) in index order.
         self._movable = [n for n, i in sorted(self.joints["left"].items(), key=lambda kv: kv[1])
                          if p.getJointInfo(self.arms["left"], i,
@@ -177,61 +185,66 @@ class DualArmRobot:
         for arm in ARMS:
             self.set_arm(arm, self.rest[arm])
 
-    def _names(self, body: int) -> tuple[dict[str, int], dict[str, int]]:
-        """Joint name -> index and link name -> index (base link = -1)."""
-        p, joints, links = self.p, {}, {BASE_LINK: -1}
+    def _names(self, body: int, base: str) -> tuple[dict[str, int], dict[str, int]]:
+        """Joint name -> index and link name -> index (the base link, named ``base``, = -1)."""
+        p, joints, links = self.p, {}, {base: -1}
         for i in range(p.getNumJoints(body, physicsClientId=self.client)):
             info = p.getJointInfo(body, i, physicsClientId=self.client)
             joints[info[1].decode()] = i
             links[info[12].decode()] = i
         return joints, links
 
-    def _stand(self) -> int:
-        """A box under both arm bases, its front face a little ahead of them."""
-        p, s = self.p, self.spec
-        half = [0.15, s.arm_spacing / 2 + 0.12, s.mount_height / 2]
-        centre = [s.distance + 0.05, 0.0, s.mount_height / 2]
-        shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=self.client)
-        look = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=STAND_RGBA,
-                                   physicsClientId=self.client)
-        return p.createMultiBody(0, shape, look, centre, physicsClientId=self.client)
-
-    def _non_adjacent_pairs(self, body: int) -> list[tuple[int, int]]:
-        """Link pairs of one arm that can collide: both have a shape and neither is the
-        other's nearest shaped ancestor (adjacent links overlap at their joint by design)."""
+    def set_lift(self, height: float) -> None:
+        """Raise the crossbar (and both arms) ``height`` [m] above its lowest position."""
         p, c = self.p, self.client
-        n = p.getNumJoints(body, physicsClientId=c)
-        shaped = {i for i in range(-1, n) if p.getCollisionShapeData(body, i, physicsClientId=c)}
-        parent = {i: p.getJointInfo(body, i, physicsClientId=c)[16] for i in range(n)}
+        self.lift = float(height)
+        p.resetJointState(self.body, self.body_joints[LIFT_JOINT], self.lift, physicsClientId=c)
+        for arm, helper in self.arms.items():
+            state = p.getLinkState(self.body, self.body_links[f"{arm}_{BASE_LINK}"],
+                                   computeForwardKinematics=True, physicsClientId=c)
+            frame = (np.array(state[4]) + np.array([0.0, 0.0, IK_OFFSET]), state[5])
+            # A base is placed by its centre of mass, not by its link frame.
+            inertial = p.getDynamicsInfo(helper, -1, physicsClientId=c)[3:5]
+            at, turn = p.multiplyTransforms(*frame, *inertial)
+            p.resetBasePositionAndOrientation(helper, at, turn, physicsClientId=c)
 
-        def shaped_parent(i: int) -> int:
-            i = parent[i]
-            while i not in shaped and i != -1:
-                i = parent[i]
-            return i
+    def shoulder(self, arm: str) -> np.ndarray:
+        """World position of an arm's shoulder (``panda_link1``'s origin) [m]."""
+        state = self.p.getLinkState(self.body, self.body_links[f"{arm}_panda_link1"],
+                                    computeForwardKinematics=True, physicsClientId=self.client)
+        return np.array(state[4])
 
-        # Siblings (the two fingers on the hand) slide against each other by design too.
-        return [(a, b) for a, b in itertools.combinations(sorted(shaped), 2)
-                if a != shaped_parent(b) and (a == -1 or shaped_parent(a) != shaped_parent(b))]
+    def joint_values(self) -> dict[str, float]:
+        """Every movable joint of the robot's URDF by name: the lift, both arms, the fingers."""
+        p, c = self.p, self.client
+        return {name: p.getJointState(self.body, i, physicsClientId=c)[0]
+                for name, i in self.body_joints.items()
+                if p.getJointInfo(self.body, i, physicsClientId=c)[2] != p.JOINT_FIXED}
 
     def set_arm(self, arm: str, q: np.ndarray) -> None:
-        """Set an arm's seven joints [rad] (the fingers keep their opening)."""
-        p, body = self.p, self.arms[arm]
+        """Set an arm's seven joints [rad], in the robot and its IK twin (the fingers keep
+        their opening)."""
+        p, c = self.p, self.client
         for name, angle in zip(ARM_JOINTS, q, strict=True):
-            p.resetJointState(body, self.joints[arm][name], float(angle),
-                              physicsClientId=self.client)
+            p.resetJointState(self.arms[arm], self.joints[arm][name], float(angle),
+                              physicsClientId=c)
+            p.resetJointState(self.body, self.body_joints[f"{arm}_{name}"], float(angle),
+                              physicsClientId=c)
 
     def open_fingers(self, bar_radius: float) -> None:
         """Open both grippers just wider than a bar of ``bar_radius`` [m]."""
+        p, c = self.p, self.client
         self.opening = bar_radius + FINGER_CLEARANCE
-        for arm, body in self.arms.items():
+        for arm, helper in self.arms.items():
             for name in FINGER_JOINTS:
-                self.p.resetJointState(body, self.joints[arm][name], self.opening,
-                                       physicsClientId=self.client)
+                p.resetJointState(helper, self.joints[arm][name], self.opening,
+                                  physicsClientId=c)
+                p.resetJointState(self.body, self.body_joints[f"{arm}_{name}"], self.opening,
+                                  physicsClientId=c)
 
     def grasp_pose(self, arm: str) -> tuple[np.ndarray, np.ndarray]:
         """The arm's grasp frame: world position [m] and quaternion (x, y, z, w)."""
-        state = self.p.getLinkState(self.arms[arm], self.links[arm][GRASP_LINK],
+        state = self.p.getLinkState(self.body, self.body_links[f"{arm}_{GRASP_LINK}"],
                                     computeForwardKinematics=True, physicsClientId=self.client)
         return np.array(state[4]), np.array(state[5])
 
@@ -253,6 +266,8 @@ class DualArmRobot:
             seed: starting joint angles (7,) [rad]; default the rest pose.
         """
         p, body, spec = self.p, self.arms[arm], self.spec
+        shift = np.array([0.0, 0.0, IK_OFFSET])  # the IK twin stands that far down
+        position = np.asarray(position, dtype=float)
         q = np.array(self.rest[arm] if seed is None else seed, dtype=float)
         self.set_arm(arm, q)
         order = [self._movable.index(n) for n in ARM_JOINTS]
@@ -265,7 +280,7 @@ class DualArmRobot:
         for call in range(spec.ik_calls):
             rest = (self.rest[arm] if seed is None else seed) if call < SHAPING_CALLS else q
             answer = p.calculateInverseKinematics(
-                body, self.links[arm][GRASP_LINK], list(position), list(orientation),
+                body, self.links[arm][GRASP_LINK], list(position + shift), list(orientation),
                 lowerLimits=lower, upperLimits=upper, jointRanges=ranges,
                 restPoses=[*rest, *fingers], maxNumIterations=50, residualThreshold=1e-6,
                 physicsClientId=self.client)
@@ -303,24 +318,11 @@ class DualArmRobot:
             worker: the worker's body id, if it is in the world.
         """
         p, c = self.p, self.client
-
-        def hits(a: int, b: int, **links) -> bool:
-            points = p.getClosestPoints(a, b, 0.0, physicsClientId=c, **links)
-            return any(pt[8] < -PENETRATION for pt in points)
-
-        left, right = self.arms["left"], self.arms["right"]
-        # Every shaped link but the base, which is bolted to the stand.
-        moving = sorted({i for pair in self._self_pairs for i in pair} - {-1})
         found = []
-        if (hits(left, right)
-                or any(hits(arm, arm, linkIndexA=a, linkIndexB=b)
-                       for arm in (left, right) for a, b in self._self_pairs)
-                or any(hits(arm, self.stand, linkIndexA=i)
-                       for arm in (left, right) for i in moving)):
+        if deepest_self_penetration(p, self.body, self._self_pairs, c) > PENETRATION:
             found.append("robot_collision_self")
         for name, other in (("robot_collision_box", box), ("robot_collision_worker", worker)):
-            if other is not None and (hits(left, other) or hits(right, other)
-                                      or hits(self.stand, other)):
+            if other is not None and touches(p, self.body, other, c):
                 found.append(name)
         return found
 
