@@ -1,14 +1,17 @@
-"""The dual-arm robot: two 7-DOF Franka Panda arms on a stand, facing the worker.
+"""The dual-arm robot: two 7-DOF Franka Panda arms on a stand with a vertical lift, facing the
+worker.
 
-Each arm is pybullet_data's ``franka_panda/panda.urdf`` (Apache-2.0, see ``urdf/README.md``);
-the stand is a plain box body under the two arm bases. Seen from the worker (world frame:
-the worker at the origin facing +x, left = +y), the bases stand ``distance`` in front of the
-worker's feet, ``arm_spacing`` apart, on top of the stand at ``mount_height``; both arms face
-the worker. The ``left`` arm (at +y) holds the handle in the worker's left hand, the ``right``
-arm the other one. See ``docs/robot.md`` for why the defaults are what they are.
+The robot is one body loaded from its URDF (:mod:`.robot_urdf`: the stand, the lift, and the
+arms from pybullet_data's ``franka_panda/panda.urdf``, Apache-2.0, see ``urdf/README.md``).
+Seen from the worker (world frame: the worker at the origin facing +x, left = +y), the bases
+stand ``distance`` in front of the worker's feet, ``arm_spacing`` apart, at ``mount_height``
+plus the lift; both arms face the worker. PyBullet's IK for each arm runs on a plain Panda
+placed :data:`IK_OFFSET` below at that arm's base pose, and its answer is set on the robot.
+The ``left`` arm (at +y) holds the handle in the worker's left hand, the ``right`` arm the
+other one. See ``docs/robot.md`` for why the defaults are what they are.
 
 The box is held level by both grippers at its ``{side}_robot_grasp`` frames (see
-:mod:`ergohandover.box_urdf`). The fingers close vertically on the horizontal rail, so any
+:mod:`.box`). The fingers close vertically on the horizontal rail, so any
 approach direction in the horizontal plane grips it: a grasp is an approach yaw, from straight
 in from the side (0°) turning toward the robot (:data:`APPROACH_YAWS_DEG`), with the fingers
 one way up or the other (:data:`GRASPS`).
