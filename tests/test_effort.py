@@ -118,13 +118,13 @@ POSTURAL_INDEX = (0.2, 0.8)
 
 
 @pytest.mark.parametrize("percentile", ["p5-female", "p50-female", "p50-male", "p95-male"])
-def test_at_knee_height_every_worker_combines_knee_and_hip_flexion(percentile):
+def test_at_and_below_knee_height_every_worker_combines_knee_and_hip_flexion(percentile):
     body = BodySpec.from_percentile(percentile)
     evaluator = Evaluator(body)
     solver = PostureSolver(body, evaluator.task)
     model = solver.model
     box = Boundary.from_body(body, evaluator.task)  # its lowest row: the knee height
-    low = np.array([[x, box.y[0], z] for x in np.linspace(*box.x, 3)
+    low = np.array([[x, box.y[0] * f, z] for f in (1.0, 0.75) for x in np.linspace(*box.x, 3)
                     for z in np.linspace(*box.z, 4)])
     solution = solver.solve(low)
     deg = {j: np.degrees(solution.q[:, model.index(j)]) for j in

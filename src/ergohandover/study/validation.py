@@ -187,25 +187,32 @@ LOW_BOX_WORKERS = ("p5-female", "p50-female", "p50-male", "p95-male")
 LEG_JOINTS = ("ankle_flexion", "knee_flexion", "hip_flexion", "lumbar_flexion")
 
 
-def knee_height_postures(task, workers: tuple[str, ...] = LOW_BOX_WORKERS) -> pd.DataFrame:
-    """The legs and back of each worker at the ``body`` boundary's lowest row (knee height).
+LOW_BOX_HEIGHTS = (1.0, 0.75)  # fractions of the worker's knee height
 
-    Three x by four z locations across the boundary per worker; per location its knee, hip,
-    lumbar and ankle flexion [deg] and the postural index, knee flexion over ankle + hip +
-    lumbar flexion (~0 a stoop, ~1 a full squat; Burgess-Limerick & Abernethy 1997).
+
+def knee_height_postures(task, workers: tuple[str, ...] = LOW_BOX_WORKERS) -> pd.DataFrame:
+    """The legs and back of each worker at the ``body`` boundary's lowest row (knee height)
+    and a quarter below it.
+
+    Per worker and height (:data:`LOW_BOX_HEIGHTS`), three x by four z locations across the
+    boundary; per location its knee, hip, lumbar and ankle flexion [deg] and the postural index,
+    knee flexion over ankle + hip + lumbar flexion (~0 a stoop, ~1 a full squat;
+    Burgess-Limerick & Abernethy 1997).
     """
     rows = []
     for name in workers:
         evaluator = Evaluator(BodySpec.from_percentile(name), task)
         box = Boundary.from_body(evaluator.body, task)
-        points = np.array([[x, box.y[0], z] for x in np.linspace(*box.x, 3)
-                           for z in np.linspace(*box.z, 4)])
+        points = np.array([[x, box.y[0] * f, z] for f in LOW_BOX_HEIGHTS
+                           for x in np.linspace(*box.x, 3) for z in np.linspace(*box.z, 4)])
         table = evaluate(points, evaluator.body, task, evaluator.solver, evaluator.settings,
                          evaluator.scoring, joints=True)
         deg = {j: np.degrees(table[f"q_{j}"].to_numpy()) for j in LEG_JOINTS}
         bend = deg["ankle_flexion"] + deg["hip_flexion"] + deg["lumbar_flexion"]
         rows.append(pd.DataFrame({
-            "worker": name, "stature_m": evaluator.body.stature_m, "x": table["x"],
+            "worker": name, "stature_m": evaluator.body.stature_m,
+            "knee_height_fraction": np.repeat(LOW_BOX_HEIGHTS, len(points) // 2),
+            "x": table["x"],
             "y": table["y"], "z": table["z"], "feasible": table["feasible"],
             **{j: deg[j] for j in LEG_JOINTS}, "postural_index": deg["knee_flexion"] / bend}))
     return pd.concat(rows, ignore_index=True)
