@@ -185,8 +185,6 @@ def validation_table(optimum: np.ndarray, evaluator: Evaluator | None = None) ->
 
 LOW_BOX_WORKERS = ("p5-female", "p50-female", "p50-male", "p95-male")
 LEG_JOINTS = ("ankle_flexion", "knee_flexion", "hip_flexion", "lumbar_flexion")
-
-
 LOW_BOX_HEIGHTS = (1.0, 0.75)  # fractions of the worker's knee height
 
 
