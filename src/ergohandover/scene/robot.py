@@ -160,12 +160,10 @@ class DualArmRobot:
         self.client, self.spec = client, spec or RobotSpec()
         s = self.spec
         # The robot's frame faces the worker: its x is the world's -x.
-        self.base_pose = (np.array([s.distance, 0.0, 0.0]), math.pi)  # world position, yaw
         facing = p.getQuaternionFromEuler([0.0, 0.0, math.pi])
-        self.body = p.loadURDF(str(cached_robot_urdf(s)), self.base_pose[0].tolist(), facing,
+        self.body = p.loadURDF(str(cached_robot_urdf(s)), [s.distance, 0.0, 0.0], facing,
                                useFixedBase=True, physicsClientId=client)
         self.body_joints, self.body_links = self._names(self.body, "base")
-        self.lift = 0.0
         # PyBullet's IK runs on one plain Panda per arm, kept IK_OFFSET below the floor at its
         # arm's base pose: the same kinematics, out of every contact test and picture.
         self.arms, self.joints, self.links = {}, {}, {}
@@ -200,8 +198,8 @@ class DualArmRobot:
     def set_lift(self, height: float) -> None:
         """Raise the crossbar (and both arms) ``height`` [m] above its lowest position."""
         p, c = self.p, self.client
-        self.lift = float(height)
-        p.resetJointState(self.body, self.body_joints[LIFT_JOINT], self.lift, physicsClientId=c)
+        p.resetJointState(self.body, self.body_joints[LIFT_JOINT], float(height),
+                          physicsClientId=c)
         for arm, helper in self.arms.items():
             state = p.getLinkState(self.body, self.body_links[f"{arm}_{BASE_LINK}"],
                                    computeForwardKinematics=True, physicsClientId=c)
@@ -210,12 +208,6 @@ class DualArmRobot:
             inertial = p.getDynamicsInfo(helper, -1, physicsClientId=c)[3:5]
             at, turn = p.multiplyTransforms(*frame, *inertial)
             p.resetBasePositionAndOrientation(helper, at, turn, physicsClientId=c)
-
-    def shoulder(self, arm: str) -> np.ndarray:
-        """World position of an arm's shoulder (``panda_link1``'s origin) [m]."""
-        state = self.p.getLinkState(self.body, self.body_links[f"{arm}_panda_link1"],
-                                    computeForwardKinematics=True, physicsClientId=self.client)
-        return np.array(state[4])
 
     def joint_values(self) -> dict[str, float]:
         """Every movable joint of the robot's URDF by name: the lift, both arms, the fingers."""
