@@ -4,24 +4,57 @@ pictures of each.
 
 Usage: python experiments/study_baselines.py [--config ...]
 
-Writes results/baselines/: baselines.csv (one row per start and method), baselines.md,
-renders/ (a PNG per start and method, a contact sheet, a GIF of a carry), manifest.json.
+Writes results/baselines/: baselines.csv (one row per start and method, with the robot's
+planned carry), baselines.md (with each path file replayed on urdf/robot_default.urdf: deepest
+self-penetration, largest joint step), paths/ (a CSV per planned carry: time, box pose, every
+robot joint), other_starts.csv (carries to the optimum from starts drawn around the worker),
+reachability.csv and reachability_summary.csv (where the robot can hold the box over the
+landscape's boundary, and the best location it can hold), renders/ (a PNG per start and
+method, a contact sheet, a GIF per planned carry), manifest.json.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import study_landscape
 
-from ergohandover.cli.baseline import markdown_table, render
+from ergohandover.cli.baseline import markdown_table, render, write_paths
 from ergohandover.io.atomic import atomic_write, atomic_write_csv
+from ergohandover.scene.carries import replay
 from ergohandover.scene.robot import RobotSpec
-from ergohandover.study.baselines import PAPER_STARTS, compare
+from ergohandover.study.baselines import PAPER_STARTS, compare, reasonable_starts
 from ergohandover.study.parts import part_config, run_part, study_main
+from ergohandover.study.reachability import reachability, restricted_optimum
 from ergohandover.twin.evaluate import Evaluator
 
 ROOT = Path(__file__).resolve().parents[1]
+ROBOT_URDF = ROOT / "urdf" / "robot_default.urdf"
+
+
+def other_starts(landscape, evaluator, robot, part: dict, workers: int) -> pd.DataFrame:
+    """Carries to the optimised location from ``part["other_starts"]`` starts drawn around the
+    worker (:func:`reasonable_starts`, their own generator)."""
+    starts = reasonable_starts(np.random.default_rng(part["starts_seed"]), part["other_starts"])
+    return compare(starts, landscape, evaluator, robot, seed=part["seed"], workers=workers,
+                   methods=("optimised",)).table
+
+
+def reach_summary(reach: pd.DataFrame, best) -> pd.DataFrame:
+    """One row: the share of the grid the robot holds, and both optima."""
+    return pd.DataFrame([{
+        "locations": len(reach), "held": int(reach["held"].sum()),
+        "held_fraction": float(reach["held"].mean()),
+        "held_fraction_twin_feasible": float(reach.loc[reach["twin_feasible"] == 1,
+                                                       "held"].mean()),
+        "smallest_clearance_m": float(reach["clearance_m"].min()),
+        "score": best.score, "optimum": best.best,
+        "optimum_x": best.best_location[0], "optimum_y": best.best_location[1],
+        "optimum_z": best.best_location[2], "held_optimum": best.held,
+        "held_x": best.held_location[0], "held_y": best.held_location[1],
+        "held_z": best.held_location[2], "held_rank": best.rank}])
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
@@ -31,16 +64,36 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     def work(folder: Path) -> dict:
         landscape = study_landscape.default_landscape(config, workers)
         evaluator, robot = Evaluator(task=study_landscape.study_task(config)), RobotSpec()
-        result = compare(PAPER_STARTS, landscape, evaluator, robot)
-        atomic_write_csv(result.table, folder / "baselines.csv")
-        markdown = markdown_table(result.table)
+        result = compare(PAPER_STARTS, landscape, evaluator, robot, seed=part["seed"],
+                         workers=workers)
+        table = result.table
+        # Each path file played back on the committed robot URDF in a client of its own.
+        paths = write_paths(result, evaluator, robot, folder / "paths")
+        played = {path.stem: replay(pd.read_csv(path), ROBOT_URDF) for path in paths}
+        names = [f"start{i // 2 + 1}_{m}" for i, m in enumerate(table["method"])]
+        table["replay_penetration_mm"] = [
+            1000 * played[n].self_penetration_m if n in played else np.nan for n in names]
+        table["replay_joint_step_rad"] = [
+            played[n].revolute_step_rad if n in played else np.nan for n in names]
+        atomic_write_csv(table, folder / "baselines.csv")
+        markdown = markdown_table(table)
         atomic_write(folder / "baselines.md", lambda h: h.write(markdown))
         print(markdown, end="")
+        others = other_starts(landscape, evaluator, robot, part, workers)
+        atomic_write_csv(others, folder / "other_starts.csv")
+        reach = reachability(landscape, evaluator, robot, part["reach_step"], workers)
+        atomic_write_csv(reach, folder / "reachability.csv")
+        best = restricted_optimum(landscape, evaluator, robot, workers=workers)
+        atomic_write_csv(reach_summary(reach, best), folder / "reachability_summary.csv")
         if part["render"]:
             render(result, evaluator, robot, folder / "renders")
-        return {"starts": len(PAPER_STARTS)}
+        return {"starts": len(PAPER_STARTS),
+                "carries_planned": sum(plan.ok for plan in result.plans),
+                "other_starts_planned": int(others["robot_feasible"].sum()),
+                "reachable_fraction": float(reach["held"].mean())}
 
-    run_part("baselines", results / "baselines", part, work, force=force)
+    run_part("baselines", results / "baselines", part, work, seeds={"planner": part["seed"]},
+             force=force)
 
 
 if __name__ == "__main__":

@@ -115,13 +115,13 @@ def test_a_landscape_for_another_worker_is_refused(capsys, tiny_landscape, tmp_p
     assert not out.exists()
 
 
-def test_baseline_writes_csv_markdown_manifest_and_pictures(capsys, tiny_landscape,
-                                                            tmp_path):
+def test_baseline_writes_csv_markdown_manifest_paths_and_pictures(capsys, tiny_landscape,
+                                                                  tmp_path):
     landscape, path = tiny_landscape
-    out, pictures = tmp_path / "b.csv", tmp_path / "img"
+    out, pictures, paths = tmp_path / "b.csv", tmp_path / "img", tmp_path / "paths"
     start = "0.0,1.1,0.6"  # just beyond the tiny boundary: a short carry
     assert main(["baseline", "--landscape", str(path), f"--start={start}", "--output", str(out),
-                 "--render", str(pictures)]) == 0
+                 "--render", str(pictures), "--paths", str(paths), "--workers", "2"]) == 0
     printed = capsys.readouterr().out
     table = pd.read_csv(out, keep_default_na=False)
     assert table["method"].tolist() == ["optimised", "shortest_distance"]
@@ -131,18 +131,30 @@ def test_baseline_writes_csv_markdown_manifest_and_pictures(capsys, tiny_landsca
     assert short.distance_m == pytest.approx(0.15)
     for row in (opt, short):  # the twin's scores at exactly that location
         assert row.feasible == 1 and row.paper_postural != "" and row.reba != ""
-        assert row.robot_feasible in (0, 1)
-        assert row.robot_feasible == 1 or row.robot_reason != ""
+        # Both carries are planned: the box's path is at least the straight distance, and the
+        # robot keeps clear of the worker.
+        assert row.robot_feasible == 1 and row.robot_reason == "" and row.robot_handover == 1
+        assert row.distance_m - 1e-9 <= row.path_length_m and row.clearance_m > 0.0
+        assert row.waypoints >= row.distance_m / 0.02 and row.checks > 0
     markdown = out.with_suffix(".md").read_text()
     assert markdown == printed and markdown.count("\n") == 3
-    assert "| (0.000, 1.100, 0.600) |" in markdown
+    assert "| (0.000, 1.100, 0.600) |" in markdown and "waypoints, clearance" in markdown
     manifest = json.loads((tmp_path / "manifest.json").read_text())
     assert manifest["config"]["landscape_key"] == landscape.key
+    assert manifest["seeds"] == {"planner": 0}
     names = sorted(p.name for p in pictures.iterdir())
-    assert names == ["baseline_sheet.png", "carry.gif", "start1_optimised.png",
-                     "start1_shortest_distance.png"]
-    gif = Image.open(pictures / "carry.gif")
-    assert gif.n_frames > 3 and (pictures / "carry.gif").stat().st_size < 3_000_000
+    assert names == ["baseline_sheet.png", "start1_optimised.gif", "start1_optimised.png",
+                     "start1_shortest_distance.gif", "start1_shortest_distance.png"]
+    gif = Image.open(pictures / "start1_optimised.gif")
+    assert gif.n_frames > 3 and (pictures / "start1_optimised.gif").stat().st_size < 3_000_000
+    for row, name in ((opt, "start1_optimised.csv"), (short, "start1_shortest_distance.csv")):
+        carry = pd.read_csv(paths / name)
+        first, last = carry.iloc[0], carry.iloc[-1]
+        assert np.allclose([first.box_x, first.box_y, first.box_z], [0.0, 1.1, 0.6])
+        assert np.allclose([last.box_x, last.box_y, last.box_z], [row.x, row.y, row.z])
+        assert carry["time"].is_monotonic_increasing and len(carry) == row.waypoints
+        assert carry[["base_x", "base_yaw"]].iloc[1:].isna().all().all()
+        assert first.base_yaw == pytest.approx(np.pi)
 
 
 def test_a_negative_start_is_taken_as_typed(capsys, tiny_landscape, tmp_path):

@@ -1,4 +1,4 @@
-"""The box URDF, the dual-arm robot's reachability and the carry: distances and reasons."""
+"""The box URDF and the dual-arm robot's reachability: distances and reasons."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from ergohandover.frames import worker_to_world
 from ergohandover.scene.box import box_urdf_text, cached_box_urdf, robot_grasp_offset
 from ergohandover.scene.robot import ARMS, GRASP_LINK, REASONS, RobotSpec, RobotSpecError
-from ergohandover.scene.world import MAX_JOINT_STEP_RAD, WorkerPosture, World
+from ergohandover.scene.world import WorkerPosture, World
 from ergohandover.twin.evaluate import Evaluator, posture_solver
 from ergohandover.twin.task import TaskSpec
 
@@ -106,9 +106,10 @@ def test_a_box_inside_the_stand_is_a_collision(world):
 
 
 def test_arms_inside_the_worker_are_a_worker_collision():
-    close = World(robot=RobotSpec(distance=0.5, arm_spacing=0.5))
+    close = World(robot=RobotSpec(distance=1.2, drive_range=0.7, arm_spacing=0.5))
     try:
         close.pose_worker(None)
+        close.robot.set_base(0.0, 0.7)  # driven to half a metre from the worker
         out = np.array([0.0, 1.5, 0.0, -0.1, 0.0, 1.6, 0.0])  # stretched out horizontally
         for arm in ARMS:
             close.robot.set_arm(arm, out)
@@ -126,28 +127,22 @@ def test_robot_at_rest_far_from_the_worker_touches_nothing(world):
     assert world.robot.collisions(world.box.body_id, world.worker.body_id) == []
 
 
-def test_a_carry_from_a_paper_start_is_continuous_and_ends_at_the_handover(world, postures):
-    start, location = np.array([0.028, 1.122, 1.354]), np.array([0.001, 1.173, 0.375])
-    carry = world.carry(start, location, postures(location))
-    assert carry.reachable and carry.summary() == ""
-    points = np.array([s.location for s in carry.samples])
-    assert np.allclose(points[0], start) and np.allclose(points[-1], location)
-    assert np.linalg.norm(np.diff(points, axis=0), axis=1).max() <= 0.05 + 1e-9
-    q = np.array([np.concatenate([s.reach.q[a] for a in ARMS]) for s in carry.samples])
-    assert np.abs(np.diff(q, axis=0)).max() <= MAX_JOINT_STEP_RAD
-    grasps = {(s.reach.approach_yaw_deg, s.reach.flip) for s in carry.samples}
-    assert len(grasps) == 1  # the box is never let go
-
-
-def test_a_carry_from_above_the_robots_reach_reports_where_it_fails(world):
-    carry = world.carry(np.array([0.028, 2.292, 1.354]), np.array([0.028, 1.44, 0.6]))
-    assert not carry.reachable
-    assert carry.samples[0].reach.reason == "robot_ik"
-    assert carry.summary().startswith("robot_ik 0-")
-
-
 def test_robot_spec_rejects_values_outside_their_range():
-    with pytest.raises(RobotSpecError, match=r"distance = 0.1 is outside the valid range 0.5-2"):
+    with pytest.raises(RobotSpecError,
+                       match=r"distance = 0.1 is outside the valid range 0.8-2.5"):
         RobotSpec(distance=0.1)
     with pytest.raises(RobotSpecError, match="mount_height = nan"):
         RobotSpec(mount_height=float("nan"))
+
+
+def test_the_base_drives_to_keep_the_box_at_arms_length(world):
+    spec = world.robot.spec
+    for z in (0.4, 0.8, 1.2):  # worker frame: the box this far in front of the worker
+        world.bring_robot(np.array([0.0, 1.0, z]), lift=0.2)
+        bases = [link_position(world, world.robot.body, world.robot.body_links[
+            f"{arm}_panda_link0"]) for arm in ARMS]
+        expected = min(max(z + spec.carry_reach, spec.distance - spec.drive_range),
+                       spec.distance)
+        assert all(math.isclose(base[0], expected, abs_tol=1e-6) for base in bases)
+        assert all(math.isclose(base[2], spec.mount_height + 0.2, abs_tol=1e-6)
+                   for base in bases)

@@ -41,25 +41,27 @@ def test_plain_pybullet_loads_it_with_a_lift_and_two_named_arms(tmp_path):
             joint = info[f"{arm}_{name}"]
             assert joint[2] == p.JOINT_REVOLUTE and joint[8] < joint[9]
     movable = [n for n, j in info.items() if j[2] != p.JOINT_FIXED]
-    assert len(movable) == 1 + 2 * (7 + 2)  # the lift, two arms, two fingers each
+    assert len(movable) == 2 + 2 * (7 + 2)  # drive, lift, two arms, two fingers each
 
 
-def test_the_lift_raises_both_arms_and_the_grasp_follows():
+def test_the_lift_and_the_drive_move_both_arms_and_the_grasp_follows():
     with World() as world:
         robot = world.robot
         q = {arm: robot.rest[arm] for arm in ARMS}
         low = {arm: robot.grasp_pose(arm)[0] for arm in ARMS}
-        robot.set_lift(0.4)
+        robot.set_base(0.4, 0.3)
         for arm in ARMS:
             robot.set_arm(arm, q[arm])
             high = robot.grasp_pose(arm)[0]
-            np.testing.assert_allclose(high - low[arm], [0.0, 0.0, 0.4], atol=1e-9)
+            # Up by the lift, toward the worker (world -x) by the drive.
+            np.testing.assert_allclose(high - low[arm], [-0.3, 0.0, 0.4], atol=1e-9)
             # The IK's twin arm stands IK_OFFSET below with the same pose.
             twin = p.getLinkState(robot.arms[arm], robot.links[arm][GRASP_LINK],
                                   computeForwardKinematics=True,
                                   physicsClientId=world.client)[4]
             np.testing.assert_allclose(np.array(twin) - high, [0.0, 0.0, -100.0], atol=1e-6)
         assert robot.joint_values()["torso_lift"] == pytest.approx(0.4)
+        assert robot.joint_values()["base_drive"] == pytest.approx(0.3)
 
 
 def test_a_lift_beyond_its_travel_is_a_one_line_error():

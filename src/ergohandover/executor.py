@@ -43,11 +43,15 @@ class LocalExecutor:
     checkpointed parts); :meth:`map` outside a ``with`` block opens and closes a pool itself.
 
     Args:
-        workers: processes; 1 runs every job in this process.
+        workers: processes; 1 runs every job in this process (unless ``isolated``).
+        isolated: run every job in a new (forked) process of its own, also with one worker:
+            for work that depends on process-wide state set once (OMPL's random seed), which
+            this process must then not have set itself.
     """
 
-    def __init__(self, workers: int = 1):
+    def __init__(self, workers: int = 1, isolated: bool = False):
         self.workers = check_workers(workers)
+        self.isolated = isolated
         self._pool = None
         self._stack: ExitStack | None = None
 
@@ -55,9 +59,10 @@ class LocalExecutor:
         self._stack = ExitStack()
         # This process too: a short job list runs here, with the same arithmetic as a worker.
         self._stack.enter_context(threadpool_limits(limits=1))
-        if self.workers > 1:
-            self._pool = self._stack.enter_context(
-                multiprocessing.get_context("fork").Pool(self.workers, initializer=pin_threads))
+        if self.workers > 1 or self.isolated:
+            self._pool = self._stack.enter_context(multiprocessing.get_context("fork").Pool(
+                self.workers, initializer=pin_threads,
+                maxtasksperchild=1 if self.isolated else None))
         return self
 
     def __exit__(self, *exc) -> None:
@@ -72,7 +77,7 @@ class LocalExecutor:
             with self:
                 yield from self.map(func, jobs)
             return
-        if self._pool is None or len(jobs) < 2:
+        if self._pool is None or (len(jobs) < 2 and not self.isolated):
             yield from map(func, jobs)
         else:
             yield from self._pool.imap(func, jobs)

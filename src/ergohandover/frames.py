@@ -39,3 +39,9 @@ def world_to_worker(points: np.ndarray) -> np.ndarray:
         (..., 3) coordinates in the worker frame [m].
     """
     return np.asarray(points, dtype=float) @ WORLD_TO_WORKER.T
+
+
+def rotation_to_worker(matrix: np.ndarray) -> np.ndarray:
+    """A rotation matrix (3, 3) of the world frame as the same rotation of the worker frame
+    (the two frames differ by a reflection, so the result is a rotation too)."""
+    return WORLD_TO_WORKER @ np.asarray(matrix, dtype=float) @ WORKER_TO_WORLD

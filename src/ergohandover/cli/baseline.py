@@ -34,18 +34,21 @@ from .options import (
 )
 
 START = "three finite numbers X,Y,Z in metres, worker frame"
-ROBOT_FLAGS = {"distance": "robot-distance", "arm_spacing": "robot-spacing",
+ROBOT_FLAGS = {"distance": "robot-distance", "drive_range": "robot-drive",
+               "arm_spacing": "robot-spacing",
                "mount_height": "robot-height"}
 
 DESCRIPTION = """\
 For each start point of the box (worker frame, metres: x right, y up, z forward), compare the
 landscape's optimised location (lowest paper postural score, the most symmetric among ties)
 with the paper's naive one (the boundary point nearest the start). At each location: the
-twin's paper postural score, REBA and RULA, and whether the dual-arm robot can carry the box
-there in a straight line and hold it for the handover. Writes a CSV, a markdown table beside
-the paper's numbers and manifest.json (into --output's folder; default a new
-runs/baseline/<timestamp>/) and prints the table. The landscape comes from the landscape cache
-(swept into it when missing) unless --landscape names a file."""
+twin's paper postural score, REBA and RULA, and the dual-arm robot's carry of the box from
+the start to there, planned with OMPL clear of the robot itself, the box and the worker (per
+carry: planning time, path length, waypoints, clearance to the worker; or why it cannot be
+served). Writes a CSV, a markdown table beside the paper's numbers and manifest.json (into
+--output's folder; default a new runs/baseline/<timestamp>/) and prints the table. The
+landscape comes from the landscape cache (swept into it when missing) unless --landscape
+names a file."""
 
 
 def add_parser(subparsers) -> None:
@@ -69,12 +72,22 @@ def add_parser(subparsers) -> None:
                         "(default: runs/baseline/<timestamp>/baselines.csv)")
     parser.add_argument("--render", type=Path, metavar="DIR",
                         help="also write a PNG per start and location, a contact sheet and a "
-                        "GIF of the first carry into DIR (created if needed)")
+                        "GIF per planned carry into DIR (created if needed)")
+    parser.add_argument("--paths", type=Path, metavar="DIR",
+                        help="also write a CSV per planned carry into DIR: time, the box pose "
+                        "(worker frame) and every robot joint by its URDF name; the robot base "
+                        "pose (world frame) in the first row (docs/robot.md)")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="seed of the carry planner (each carry's own is spawned from it; "
+                        "default 0)")
     group = parser.add_argument_group("robot (docs/robot.md)")
     defaults = RobotSpec()
     group.add_argument("--robot-distance", type=float, default=defaults.distance, metavar="M",
-                       help=f"arm bases in front of the worker [m] (default: "
-                       f"{defaults.distance})")
+                       help=f"arm bases in front of the worker with the base driven fully "
+                       f"back [m] (default: {defaults.distance})")
+    group.add_argument("--robot-drive", type=float, default=defaults.drive_range, metavar="M",
+                       help=f"travel of the mobile base toward the worker [m] (default: "
+                       f"{defaults.drive_range})")
     group.add_argument("--robot-spacing", type=float, default=defaults.arm_spacing,
                        metavar="M", help=f"distance between the arm bases [m] (default: "
                        f"{defaults.arm_spacing})")
@@ -82,7 +95,7 @@ def add_parser(subparsers) -> None:
                        metavar="M", help=f"height of the arm bases [m] (default: "
                        f"{defaults.mount_height})")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes for a sweep (default: all cores)")
+                        help="processes for a sweep and for planning carries (default: all cores)")
     parser.set_defaults(run=run)
 
 
@@ -137,7 +150,9 @@ def markdown_table(table: pd.DataFrame) -> str:
             ours = _cell(row.paper_postural) if row.feasible else f"infeasible ({row.reason})"
             paper = "" if pd.isna(row.paper_postural_paper) else \
                 f" ({int(row.paper_postural_paper)})"
-            robot = "yes" if row.robot_feasible else f"no: {row.robot_reason}"
+            robot = (f"yes: {row.path_length_m:.2f} m, {row.waypoints} waypoints, clearance "
+                     f"{100 * row.clearance_m:.1f} cm, {row.planning_s:.1f} s"
+                     if row.robot_feasible else f"no: {row.robot_reason}")
             cells += [f"({row.x:.3f}, {row.y:.3f}, {row.z:.3f})", ours + paper,
                       _cell(row.reba), _cell(row.rula), robot]
         lines.append("| " + " | ".join(cells) + " |")
@@ -149,7 +164,8 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args.workers)
     starts = np.array([parse_start(s) for s in args.start]) if args.start else PAPER_STARTS
     try:
-        robot = RobotSpec(distance=args.robot_distance, arm_spacing=args.robot_spacing,
+        robot = RobotSpec(distance=args.robot_distance, drive_range=args.robot_drive,
+                          arm_spacing=args.robot_spacing,
                           mount_height=args.robot_height)
     except RobotSpecError as exc:
         field = str(exc).split(" = ")[0]
@@ -159,25 +175,48 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
                          "not exist")
     landscape, source = obtain_landscape(args, evaluator)
-    result = compare(starts, landscape, evaluator, robot)
+    if args.seed < 0:
+        raise InputError(f"seed = {args.seed} is not allowed (use an integer >= 0)")
+    result = compare(starts, landscape, evaluator, robot, seed=args.seed,
+                     workers=args.workers)
     output = args.output or run_folder("baseline") / "baselines.csv"
     markdown = markdown_table(result.table)
     atomic_write_csv(result.table, output)
     md_path = atomic_write(output.with_suffix(".md"), lambda h: h.write(markdown))
     pictures = render(result, evaluator, robot, args.render) if args.render else []
+    paths = write_paths(result, evaluator, robot, args.paths) if args.paths else []
     write_manifest(output, config={
         "starts": starts.tolist(), "evaluator": dataclasses.asdict(evaluator),
         "robot": dataclasses.asdict(robot), "landscape": str(source),
         "landscape_key": landscape.key, "grid": dataclasses.asdict(landscape.grid)},
-        seeds={}, wall_time_s=time.perf_counter() - started,
-        extra={"outputs": [str(output), str(md_path), *map(str, pictures)]})
+        seeds={"planner": args.seed}, wall_time_s=time.perf_counter() - started,
+        extra={"outputs": [str(output), str(md_path), *map(str, pictures), *map(str, paths)]})
     print(markdown, end="")
     print(f"wrote {output}, {md_path}", file=sys.stderr)
     return 0
 
 
+def write_paths(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
+    """A path CSV per planned carry (``start<i>_<method>.csv``, see
+    :func:`~..scene.carries.path_table`)."""
+    from ..scene.carries import path_table
+    from ..scene.world import World
+
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    with World(evaluator.body, evaluator.task, robot) as world:
+        for i, (row, plan) in enumerate(zip(result.table.to_dict("records"), result.plans,
+                                            strict=True)):
+            if plan.ok:
+                name = f"start{i // 2 + 1}_{row['method']}.csv"
+                written.append(atomic_write_csv(path_table(world, plan), folder / name))
+    print(f"wrote {len(written)} path files into {folder}", file=sys.stderr)
+    return written
+
+
 def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
-    """A PNG per row, a contact sheet of them and a GIF of the first row's carry."""
+    """A PNG per row (the robot at the handover: the carry's last pose, else the best hold it
+    finds there), a contact sheet of them and a GIF per planned carry."""
     from ..scene.render import save_png
     from ..scene.scene_render import (
         SceneRenderer,
@@ -189,20 +228,36 @@ def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list
     from ..scene.world import World
 
     folder.mkdir(parents=True, exist_ok=True)
-    paths, cells = [], []
+    paths, gifs, cells = [], [], []
     with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
-        for i, (row, carry, hold, posture) in enumerate(zip(
-                result.table.to_dict("records"), result.carries, result.handovers,
-                result.postures, strict=True)):
-            # The carry's last pose if it got there, else the hold found on its own.
-            arms = carry.handover.q if carry.handover.reachable else hold.q
-            renderer.pose(carry.samples[-1].location, arms, posture)
+        world = renderer.world
+        rows = result.table.to_dict("records")
+        for i, (row, plan, posture) in enumerate(zip(rows, result.plans, result.postures,
+                                                     strict=True)):
+            location = np.array([row["x"], row["y"], row["z"]])
+            if plan.ok:
+                last = plan.waypoints[-1]
+                arms, lift = last.q, last.lift
+            else:
+                arms, lift = _best_hold(world, location, posture)
+            renderer.pose(location, arms, posture, lift)
             views = renderer.views()
-            name = f"start{i // 2 + 1}_{row['method']}.png"
-            paths.append(save_png(views, baseline_caption(row), folder / name))
+            name = f"start{i // 2 + 1}_{row['method']}"
+            paths.append(save_png(views, baseline_caption(row), folder / f"{name}.png"))
             cells.append((views, short_label(row, i // 2 + 1)))
+            if plan.ok:
+                gifs.append(carry_gif(renderer, plan, posture, folder / f"{name}.gif"))
         sheet = contact_sheet(cells, folder / "baseline_sheet.png")
-        gif = carry_gif(renderer, result.carries[0], result.postures[0], folder / "carry.gif")
-    print(f"wrote {len(paths)} pictures, {sheet.name} and {gif.name} into {folder}",
+    print(f"wrote {len(paths)} pictures, {sheet.name} and {len(gifs)} GIFs into {folder}",
           file=sys.stderr)
-    return [*paths, sheet, gif]
+    return [*paths, sheet, *gifs]
+
+
+def _best_hold(world, location, posture) -> tuple[dict, float]:
+    """The arms and lift of the first lift at which the robot holds the box at ``location``
+    (else the last attempt), for a picture of a carry that could not be planned."""
+    for lift in np.linspace(0.0, world.robot.spec.lift_range, 6):
+        reach = world.reach(location, posture, lift=float(lift))
+        if reach.reachable:
+            break
+    return reach.q, float(lift)

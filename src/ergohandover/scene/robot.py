@@ -46,6 +46,7 @@ FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
 GRASP_LINK = "panda_grasptarget"  # between the finger pads, 0.105 m from the hand flange
 BASE_LINK = "panda_link0"
 LIFT_JOINT = "torso_lift"
+DRIVE_JOINT = "base_drive"
 IK_OFFSET = -100.0  # the IK twins stand this far below the floor [m]
 REASONS = ("robot_ik", "robot_joint_limit", "robot_collision_self", "robot_collision_box",
            "robot_collision_worker")
@@ -71,8 +72,12 @@ class RobotSpecError(ConfigError):
 class RobotSpec:
     """Where the robot stands and how close its grippers must come (world frame, metres)."""
 
-    distance: float = ranged(1.05, "arm bases in front of the worker's feet (worker z) [m]",
-                            0.5, 2.0)
+    distance: float = ranged(1.75, "arm bases in front of the worker's feet (worker z) with "
+                             "the base driven fully back [m]", 0.8, 2.5)
+    drive_range: float = ranged(0.9, "travel of the mobile base toward the worker [m]",
+                                0.0, 1.5)
+    carry_reach: float = ranged(0.55, "box centre in front of the arm bases while the base "
+                                "can follow it [m]", 0.2, 0.8)
     arm_spacing: float = ranged(1.0, "distance between the two arm bases [m]", 0.5, 2.0)
     mount_height: float = ranged(0.6, "height of the arm bases (top of the stand) [m]",
                                 0.2, 1.6)
@@ -171,7 +176,7 @@ class DualArmRobot:
             self.arms[arm] = p.loadURDF(str(panda_path()), [0, 0, IK_OFFSET], facing,
                                         useFixedBase=True, physicsClientId=client)
             self.joints[arm], self.links[arm] = self._names(self.arms[arm], BASE_LINK)
-        self.set_lift(0.0)
+        self.set_base(0.0, 0.0)
         info = [p.getJointInfo(self.arms["left"], self.joints["left"][n], physicsClientId=client)
                 for n in ARM_JOINTS]
         self.lower = np.array([i[8] for i in info])
@@ -195,10 +200,14 @@ class DualArmRobot:
             links[info[12].decode()] = i
         return joints, links
 
-    def set_lift(self, height: float) -> None:
-        """Raise the crossbar (and both arms) ``height`` [m] above its lowest position."""
+    def set_base(self, lift: float, drive: float) -> None:
+        """Raise the crossbar (and both arms) ``lift`` [m] above its lowest position and drive
+        the base ``drive`` [m] toward the worker from its home."""
         p, c = self.p, self.client
-        p.resetJointState(self.body, self.body_joints[LIFT_JOINT], float(height),
+        self.lift, self.drive = float(lift), float(drive)
+        p.resetJointState(self.body, self.body_joints[LIFT_JOINT], float(lift),
+                          physicsClientId=c)
+        p.resetJointState(self.body, self.body_joints[DRIVE_JOINT], float(drive),
                           physicsClientId=c)
         for arm, helper in self.arms.items():
             state = p.getLinkState(self.body, self.body_links[f"{arm}_{BASE_LINK}"],
@@ -209,12 +218,39 @@ class DualArmRobot:
             at, turn = p.multiplyTransforms(*frame, *inertial)
             p.resetBasePositionAndOrientation(helper, at, turn, physicsClientId=c)
 
+    def drive_for(self, box_x: float) -> float:
+        """The drive that puts the arm bases ``carry_reach`` beyond a box centre at world
+        ``box_x`` [m], within the drive's travel: the base keeps the box at arm's length."""
+        s = self.spec
+        return float(np.clip(s.distance - s.carry_reach - box_x, 0.0, s.drive_range))
+
+    def shoulder(self, arm: str) -> np.ndarray:
+        """The arm's shoulder (the axis of its second joint, the origin of ``panda_link1``),
+        world frame [m]."""
+        state = self.p.getLinkState(self.body, self.body_links[f"{arm}_panda_link1"],
+                                    computeForwardKinematics=True, physicsClientId=self.client)
+        return np.array(state[4])
+
     def joint_values(self) -> dict[str, float]:
         """Every movable joint of the robot's URDF by name: the lift, both arms, the fingers."""
         p, c = self.p, self.client
         return {name: p.getJointState(self.body, i, physicsClientId=c)[0]
                 for name, i in self.body_joints.items()
                 if p.getJointInfo(self.body, i, physicsClientId=c)[2] != p.JOINT_FIXED}
+
+    def _set_twin(self, arm: str, q: np.ndarray) -> None:
+        """Set the arm's IK twin alone (the robot is set once the IK has its answer)."""
+        for name, angle in zip(ARM_JOINTS, q, strict=True):
+            self.p.resetJointState(self.arms[arm], self.joints[arm][name], float(angle),
+                                   physicsClientId=self.client)
+
+    def _twin_residual(self, arm: str, position, orientation) -> tuple[float, float]:
+        """Grasp position error [m] and tilt [rad] of the arm's IK twin, as if it stood at
+        the arm's base."""
+        state = self.p.getLinkState(self.arms[arm], self.links[arm][GRASP_LINK],
+                                    computeForwardKinematics=True, physicsClientId=self.client)
+        at = np.array(state[4]) - np.array([0.0, 0.0, IK_OFFSET])
+        return float(np.linalg.norm(at - position)), angle_between(state[5], orientation)
 
     def set_arm(self, arm: str, q: np.ndarray) -> None:
         """Set an arm's seven joints [rad], in the robot and its IK twin (the fingers keep
@@ -264,7 +300,7 @@ class DualArmRobot:
         shift = np.array([0.0, 0.0, IK_OFFSET])  # the IK twin stands that far down
         position = np.asarray(position, dtype=float)
         q = np.array(self.rest[arm] if seed is None else seed, dtype=float)
-        self.set_arm(arm, q)
+        self._set_twin(arm, q)
         order = [self._movable.index(n) for n in ARM_JOINTS]
         fingers = [self.opening] * (len(self._movable) - len(ARM_JOINTS))
         lower = [*self.lower, *([0.0] * len(fingers))]
@@ -282,18 +318,26 @@ class DualArmRobot:
             q = np.asarray(answer)[order]
             inside = bool(np.all((q >= self.lower - 1e-6) & (q <= self.upper + 1e-6)))
             if not inside:
-                self.set_arm(arm, q)
-                beyond |= self._within(*self._residual(arm, position, orientation))
+                self._set_twin(arm, q)
+                beyond |= self._within(*self._twin_residual(arm, position, orientation))
                 q = np.clip(q, self.lower, self.upper)
-            self.set_arm(arm, q)
-            error, angle = self._residual(arm, position, orientation)
+            self._set_twin(arm, q)
+            error, angle = self._twin_residual(arm, position, orientation)
             history.append(error + angle * 0.1)  # 0.1 m per rad: a tilt weighs like a miss
             if self._within(error, angle, 0.1):
                 break
-            # Stalled (out of reach, or pinned at a limit): more calls will not help.
-            if call >= SHAPING_CALLS + 5 and history[-6] - history[-1] < 1e-4:
+            # Stalled (out of reach, or pinned at a limit): more calls will not help. A seeded
+            # solve starts next to its answer, so five calls without progress tell.
+            if call >= (5 if seed is not None else SHAPING_CALLS + 5) and \
+                    history[-6] - history[-1] < 1e-4:
                 break
+        self.set_arm(arm, q)
         return ArmSolution(q, error, angle, beyond and not self._within(error, angle))
+
+    def holds_handle(self, arm: str, target: np.ndarray, grasp: tuple[float, bool]) -> bool:
+        """Is the arm's grasp frame, as the joints are set, on ``target`` (world frame [m])
+        with ``grasp``, within the tolerances?"""
+        return self._within(*self._residual(arm, target, grasp_orientation(arm, *grasp)))
 
     def _within(self, error: float, angle: float, fraction: float = 1.0) -> bool:
         """Both residuals within ``fraction`` of their tolerances."""

@@ -1,16 +1,18 @@
 """URDF of the dual-arm robot, written from a :class:`~.robot.RobotSpec`.
 
-One description holds the whole robot: a fixed stand, a vertical lift on it (the prismatic
-``torso_lift`` joint, carrying a crossbar), and two Franka Panda arms with their hands bolted to
-the crossbar ``arm_spacing`` apart, both facing the worker. The arms are pybullet_data's
+One description holds the whole robot: a mobile base that drives toward the worker (the
+prismatic ``base_drive`` joint), a stand on it, a vertical lift on the stand (the prismatic
+``torso_lift`` joint, carrying a crossbar), and two Franka Panda arms bolted to the crossbar
+``arm_spacing`` apart, both facing the worker. The arms are pybullet_data's
 ``franka_panda/panda.urdf`` (Apache-2.0), copied element by element with every link and joint
 name prefixed ``left_`` or ``right_``; their meshes stay where pybullet_data installed them and
 are referenced as ``package://franka_panda/meshes/...``. PyBullet does not resolve that
 prefix, so :func:`cached_robot_urdf` writes a copy with the installed path in its place.
 
-Robot frame: the origin on the floor under the middle of the crossbar, x toward the worker, z
-up; the left arm (which holds the handle in the worker's left hand) at y = -spacing/2 (the robot
-faces the worker, so the worker's left is the robot's right). :class:`~.world.World` places the
+Robot frame: the origin on the floor under the middle of the crossbar with the base driven
+fully back, x toward the worker, z up; the left arm (which holds the handle in the worker's
+left hand) at y = -spacing/2 (the robot faces the worker, so the worker's left is the
+robot's right). :class:`~.world.World` places the
 frame ``distance`` in front of the worker, turned to face it.
 
 The text is a pure function of the spec (fixed number formatting), so the committed default
@@ -34,6 +36,8 @@ STAND_OVERHANG = 0.12  # beyond each arm base, sideways [m]
 STAND_BEHIND = 0.05  # the stand's centre behind the arm bases [m]
 CROSSBAR_THICKNESS = 0.04  # the plate the arm bases sit on [m]
 LIFT_EFFORT_N, LIFT_VELOCITY = 2000.0, 0.3  # a column lift's push and speed [N, m/s]
+DRIVE_EFFORT_N, DRIVE_VELOCITY = 500.0, 0.5  # the mobile base's push and speed [N, m/s]
+PLATFORM_HEIGHT = 0.10  # the mobile base's deck; the stand stands on it [m]
 GREY = "0.55 0.57 0.6 1"
 
 
@@ -104,9 +108,17 @@ def robot_urdf(spec) -> str:
              '  <link name="base"><inertial><origin xyz="0 0 0" rpy="0 0 0"/>'
              '<mass value="0.001"/><inertia ixx="1e-06" ixy="0" ixz="0" iyy="1e-06" iyz="0"'
              ' izz="1e-06"/></inertial></link>']
-    lines += _box_link("stand", (STAND_DEPTH, width, spec.mount_height - CROSSBAR_THICKNESS),
-                       (-STAND_BEHIND, 0.0, (spec.mount_height - CROSSBAR_THICKNESS) / 2), 80.0)
-    lines += ['  <joint name="stand_mount" type="fixed"><parent link="base"/>'
+    # The mobile base drives along x; the stand sits on its deck.
+    lines += _box_link("mobile_base", (STAND_DEPTH, width, PLATFORM_HEIGHT),
+                       (-STAND_BEHIND, 0.0, PLATFORM_HEIGHT / 2), 120.0)
+    lines += ['  <joint name="base_drive" type="prismatic"><parent link="base"/>'
+              '<child link="mobile_base"/><origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="1 0 0"/>'
+              f'<limit lower="0" upper="{_num(spec.drive_range)}"'
+              f' effort="{_num(DRIVE_EFFORT_N)}" velocity="{_num(DRIVE_VELOCITY)}"/></joint>']
+    stand = spec.mount_height - CROSSBAR_THICKNESS - PLATFORM_HEIGHT
+    lines += _box_link("stand", (STAND_DEPTH, width, stand),
+                       (-STAND_BEHIND, 0.0, PLATFORM_HEIGHT + stand / 2), 80.0)
+    lines += ['  <joint name="stand_mount" type="fixed"><parent link="mobile_base"/>'
               '<child link="stand"/><origin xyz="0 0 0" rpy="0 0 0"/></joint>']
     # The crossbar rides on the lift; at lift 0 its top (the arm bases) is at mount_height.
     lines += _box_link("crossbar", (STAND_DEPTH, width, CROSSBAR_THICKNESS),

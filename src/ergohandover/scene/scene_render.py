@@ -16,8 +16,9 @@ import pandas as pd
 from PIL import Image, ImageDraw, ImageFont
 
 from ..io.atomic import atomic_write
+from .planner import Plan
 from .render import FLOOR, caption_lines
-from .world import Carry, WorkerPosture, World
+from .world import WorkerPosture, World
 
 VIEW_SIZE = 480
 # Camera eyes, world frame (worker at the origin facing +x, left = +y): from the worker's left
@@ -25,8 +26,10 @@ VIEW_SIZE = 480
 # worker's right shoulder, to see both grips on the handles.
 VIEWS = {"side": (0.5, 3.1, 1.3), "behind": (-0.9, -2.2, 2.3)}
 TARGET = (0.5, 0.0, 0.9)
-# The carry starts behind the arm bases: the GIF looks from further away, centred further back.
-GIF_CAMERA = {"eye": (0.75, 3.6, 1.3), "target": (0.75, 0.0, 0.9)}
+# The carry starts up to 1.4 m in front of the worker: the GIF looks from further away,
+# centred further out.
+GIF_CAMERA = {"eye": (0.9, 3.8, 1.4), "target": (0.9, 0.0, 1.0)}
+GIF_FRAMES = 40  # carry frames at most (waypoints are skipped evenly beyond that)
 
 
 class SceneRenderer:
@@ -46,10 +49,11 @@ class SceneRenderer:
         self.world.close()
 
     def pose(self, location: np.ndarray, robot_q: dict[str, np.ndarray],
-             posture: WorkerPosture | None = None) -> None:
-        """Box at ``location`` (worker frame [m]), the arms at ``robot_q`` [rad], the worker in
-        ``posture`` (default: at rest)."""
-        self.world.place_box(location)
+             posture: WorkerPosture | None = None, lift: float = 0.0) -> None:
+        """Box at ``location`` (worker frame [m]), the robot's base following it with the lift
+        at ``lift`` [m], the arms at ``robot_q`` [rad], the worker in ``posture`` (default: at
+        rest)."""
+        self.world.bring_robot(location, lift)
         self.world.pose_worker(posture)
         for arm, q in robot_q.items():
             self.world.robot.set_arm(arm, q)
@@ -79,7 +83,8 @@ def baseline_caption(row) -> list[str]:
     """Lines under a baseline picture: start, method, the twin's scores, the robot's verdict."""
     head = (f"start ({row['start_x']:+.3f}, {row['start_y']:.3f}, {row['start_z']:.3f}) m -> "
             f"{row['method'].replace('_', ' ')} location")
-    robot = ("robot: carry and handover reachable" if row["robot_feasible"] else
+    robot = (f"robot: carry planned ({row['path_length_m']:.2f} m, clearance "
+             f"{100 * row['clearance_m']:.0f} cm)" if row["robot_feasible"] else
              f"robot: cannot serve it ({row['robot_reason']})")
     return [head, *caption_lines(row), robot]
 
@@ -121,35 +126,42 @@ def short_label(row, number: int) -> list[str]:
                   f"RULA {row['rula']}; robot {robot}"]
 
 
-def carry_gif(renderer: SceneRenderer, carry: Carry, posture: WorkerPosture | None,
+def carry_gif(renderer: SceneRenderer, plan: Plan, posture: WorkerPosture | None,
               path: str | os.PathLike, size: tuple[int, int] = (420, 320),
               reach_frames: int = 8, hold_ms: int = 1200) -> Path:
-    """An animated GIF of a carry: the box travels sample by sample, then the worker reaches
-    from rest into ``posture`` and holds it.
+    """An animated GIF of a planned carry: the box travels along the waypoints (at most
+    :data:`GIF_FRAMES` of them, evenly spaced in time), then the worker reaches from rest
+    into ``posture`` and holds it.
 
     Args:
         renderer: the scene.
-        carry: the samples (robot poses) from :meth:`World.carry`.
+        plan: a planned carry (with waypoints).
         posture: the worker's posture at the handover (None: stays at rest).
         path: the GIF to write (atomically).
         size: frame width and height [px].
         reach_frames: frames over which the worker moves from rest to ``posture``.
         hold_ms: how long the last frame stays [ms].
     """
+    waypoints = plan.waypoints
+    times = np.array([w.time for w in waypoints])
+    picks = np.unique(np.searchsorted(times, np.linspace(0.0, times[-1], GIF_FRAMES)))
     frames = []
-    for sample in carry.samples:
-        renderer.pose(sample.location, sample.reach.q)
+    for i in picks:
+        w = waypoints[min(i, len(waypoints) - 1)]
+        renderer.pose(w.location, w.q, lift=w.lift)
         frames.append(renderer.view(size=size, **GIF_CAMERA))
+    last = waypoints[-1]
     if posture is not None:
-        last = carry.samples[-1]
         for t in np.linspace(0.0, 1.0, reach_frames + 1)[1:]:
             blended = WorkerPosture(posture.joint_names, t * np.asarray(posture.q))
-            renderer.pose(last.location, last.reach.q, blended)
+            renderer.pose(last.location, last.q, blended, lift=last.lift)
             frames.append(renderer.view(size=size, **GIF_CAMERA))
     # One shared palette keeps the file small and the colours steady between frames.
     palette = frames[len(frames) // 2].quantize(colors=96, method=Image.Quantize.MEDIANCUT)
     quantised = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
-    durations = [120] * (len(quantised) - 1) + [hold_ms]
+    step_ms = round(1000 * float(times[-1]) / max(1, len(picks) - 1))
+    durations = [max(40, step_ms)] * (len(picks) - 1) + [120] * (len(quantised) - len(picks))
+    durations.append(hold_ms)
     return atomic_write(path, lambda handle: quantised[0].save(
-        handle, format="GIF", save_all=True, append_images=quantised[1:], duration=durations,
-        loop=0, optimize=True), binary=True)
+        handle, format="GIF", save_all=True, append_images=quantised[1:],
+        duration=durations[:len(quantised)], loop=0, optimize=True), binary=True)

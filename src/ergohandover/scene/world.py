@@ -1,17 +1,15 @@
-"""The PyBullet scene of a handover: the worker, the dual-arm robot and the box, and the carry
-of the box along a straight line from a start point to the handover location.
+"""The PyBullet scene of a handover: the worker, the dual-arm robot and the box.
 
 Positions given to and returned by this module are in the worker frame (x right, y up,
 z forward; metres); the scene itself lives in PyBullet's world frame (:mod:`frames`).
 The box is moved kinematically (it is level and never simulated); the robot holds it by its
-``{side}_robot_grasp`` frames; the worker stands at rest (arms hanging) while the box travels
-and takes its solved posture (from the posture solver) at the handover.
+``{side}_robot_grasp`` frames, its base driven to keep the box at arm's length; the worker
+stands at rest (arms hanging) while the box travels and takes its solved posture (from the
+posture solver) at the handover. The carries themselves are planned in :mod:`.planner`.
 """
 
 from __future__ import annotations
 
-import itertools
-import math
 from collections.abc import Sequence
 from typing import NamedTuple
 
@@ -24,12 +22,7 @@ from ..twin.anthropometry import BodySpec
 from ..twin.task import TaskSpec
 from ..twin.urdf import load_worker
 from .box import HANDLE_RADIUS, load_box
-from .robot import ARMS, GRASPS, DualArmRobot, Reach, RobotSpec
-
-CARRY_SPACING = 0.05  # distance between samples along a carry [m]
-# Largest joint motion between two carry samples [rad]: at 5 cm spacing, 0.5 rad is ten
-# times what a joint needs to follow the box smoothly, yet far below a configuration flip.
-MAX_JOINT_STEP_RAD = 0.5
+from .robot import ARMS, DualArmRobot, Reach, RobotSpec
 
 
 class WorkerPosture(NamedTuple):
@@ -38,43 +31,6 @@ class WorkerPosture(NamedTuple):
 
     joint_names: Sequence[str]
     q: np.ndarray
-
-
-class CarrySample(NamedTuple):
-    """One box pose along a carry: how far along (0 = start, 1 = handover), the box centre
-    (3,) [m] in the worker frame, and whether the robot can hold it there."""
-
-    fraction: float
-    location: np.ndarray
-    reach: Reach
-
-
-class Carry(NamedTuple):
-    """Every sample of a carry, start first; the last one is the handover."""
-
-    samples: list[CarrySample]
-
-    @property
-    def reachable(self) -> bool:
-        """The robot can hold the box at every sample, the handover included."""
-        return all(s.reach.reachable for s in self.samples)
-
-    @property
-    def reachable_count(self) -> int:
-        return sum(s.reach.reachable for s in self.samples)
-
-    @property
-    def handover(self) -> Reach:
-        return self.samples[-1].reach
-
-    def summary(self) -> str:
-        """Empty when reachable; else which reasons, over which part of the path, e.g.
-        ``robot_ik 0-40%``."""
-        spans: dict[str, list[float]] = {}
-        for s in self.samples:
-            for reason in filter(None, s.reach.reason.split(";")):
-                spans.setdefault(reason, []).append(s.fraction)
-        return "; ".join(f"{r} {100 * min(f):.0f}-{100 * max(f):.0f}%" for r, f in spans.items())
 
 
 class World:
@@ -135,68 +91,31 @@ class World:
                     computeForwardKinematics=True, physicsClientId=self.client)[4])
                 for arm in ARMS}
 
+    def bring_robot(self, location: np.ndarray, lift: float | None = None) -> None:
+        """Place the box at ``location`` (worker frame [m]) and the robot's base where it holds
+        a box there: driven to keep it at arm's length (:meth:`DualArmRobot.drive_for`), the
+        lift at ``lift`` [m] (default: where it is)."""
+        location = np.asarray(location, dtype=float)
+        self.place_box(location)
+        robot = self.robot
+        robot.set_base(robot.lift if lift is None else lift,
+                       robot.drive_for(float(worker_to_world(location)[0])))
+
     def reach(self, location: np.ndarray, posture: WorkerPosture | None = None,
               grasps: list[tuple[float, bool]] | None = None,
-              seed: dict[str, np.ndarray] | None = None) -> Reach:
+              seed: dict[str, np.ndarray] | None = None, lift: float | None = None) -> Reach:
         """Can the robot hold the box at ``location`` (worker frame [m]) with the worker in
-        ``posture`` (default: at rest)? Leaves the scene in that pose.
+        ``posture`` (default: at rest)? The base drives to keep the box at arm's length
+        (:meth:`bring_robot`). Leaves the scene in that pose.
 
         Args:
             location: the box centre (3,) [m], worker frame.
             posture: the worker's posture (default: at rest).
             grasps: the grasps to try (default: all, see :meth:`DualArmRobot.reach`).
             seed: arm -> joint angles (7,) [rad] to start the IK from (default: rest pose).
+            lift: the lift [m] (default: where it is).
         """
-        self.place_box(np.asarray(location, dtype=float))
+        self.bring_robot(location, lift)
         self.pose_worker(posture)
         return self.robot.reach(self.grasp_targets(), self.box.body_id, self.worker.body_id,
                                 grasps, seed)
-
-    def _path(self, points: list[tuple[float, np.ndarray]], posture: WorkerPosture | None,
-              grasp: tuple[float, bool], backward: bool) -> Carry:
-        """One grasp along the sampled path, each IK seeded by the previous sample's pose;
-        ``backward``: solved from the handover back to the start (reported start first)."""
-        order = list(range(len(points)))[::-1] if backward else list(range(len(points)))
-        samples: dict[int, CarrySample] = {}
-        seed, previous_ok = None, False
-        for i in order:
-            fraction, point = points[i]
-            reach = self.reach(point, posture if i == len(points) - 1 else None, [grasp], seed)
-            if previous_ok and reach.reachable and max(
-                    np.abs(reach.q[a] - seed[a]).max() for a in ARMS) > MAX_JOINT_STEP_RAD:
-                reach = reach._replace(reachable=False, reason="robot_discontinuous")
-            samples[i] = CarrySample(fraction, point, reach)
-            seed, previous_ok = reach.q, reach.reachable
-        return Carry([samples[i] for i in range(len(points))])
-
-    def carry(self, start: np.ndarray, location: np.ndarray,
-              posture: WorkerPosture | None = None,
-              spacing: float = CARRY_SPACING) -> Carry:
-        """Carry the box in a straight line from ``start`` to ``location`` (worker frame [m]).
-
-        Samples every ``spacing`` metres at most (both ends included). The box is held with
-        one grasp all the way (the robot cannot let go mid-carry): each grasp of
-        :data:`robot.GRASPS` is tried in turn, solved from the handover back to the start and
-        then forward, and the first that reaches every sample is kept, else the best (ending
-        in the handover, then reaching most samples). Along a path each sample's IK starts from the
-        previous pose, and a joint moving more than :data:`MAX_JOINT_STEP_RAD` between two
-        samples makes the later one ``robot_discontinuous`` (the IK jumped to another
-        configuration, which the straight carry cannot pass through). The worker stands at
-        rest until the last sample, where it takes ``posture`` (its grip on the handles).
-
-        Returns:
-            Every sample with its reachability.
-        """
-        start, location = np.asarray(start, float), np.asarray(location, float)
-        n = max(2, math.ceil(np.linalg.norm(location - start) / spacing) + 1)
-        points = [(float(f), start + f * (location - start)) for f in np.linspace(0, 1, n)]
-        best = None
-        for grasp, backward in itertools.product(GRASPS, (True, False)):
-            carry = self._path(points, posture, grasp, backward)
-            # Prefer a carry that ends in the handover, then the one reaching most samples.
-            rank = (carry.handover.reachable, carry.reachable_count)
-            if best is None or rank > (best.handover.reachable, best.reachable_count):
-                best = carry
-            if carry.reachable:
-                break
-        return best

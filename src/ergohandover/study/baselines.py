@@ -7,7 +7,7 @@ Ergonomically Naive methods").
 - :func:`optimised`: the landscape's best location for a score; among ties the most symmetric
   (the paper's symmetry reward picks it too).
 - :func:`compare`: both locations for every start, with the twin's scores at exactly that
-  location and whether the robot can carry the box there and hold it for the handover.
+  location and the robot's carry of the box there, planned around every obstacle.
 """
 
 from __future__ import annotations
@@ -20,8 +20,10 @@ import pandas as pd
 from ..errors import ConfigError
 from ..landscape.cache import Landscape
 from ..landscape.stats import optimum
-from ..scene.robot import Reach, RobotSpec
-from ..scene.world import CARRY_SPACING, Carry, WorkerPosture, World
+from ..scene.carries import CarryJob, plan_carries
+from ..scene.planner import DEFAULT_BUDGET, Plan
+from ..scene.robot import RobotSpec
+from ..scene.world import WorkerPosture
 from ..twin.evaluate import JOINT_PREFIX, Evaluator, evaluate, joint_angles, posture_solver
 from ..twin.task import Boundary
 
@@ -32,6 +34,22 @@ PAPER_STARTS = np.array([(0.028, 1.122, 1.354), (0.263, 1.122, 1.354), (-0.423, 
 PAPER_RESULTS = {"optimised": (4, 4, 4, 4, 4), "shortest_distance": (5, 6, 5, 7, 5)}
 METHODS = ("optimised", "shortest_distance")
 SCORES = ("paper_postural", "reba", "rula")
+
+
+# Starts "around the worker" for the robot's robustness check: on the robot's side, 1-2.3 m
+# up, within 1.5 m of the worker's feet (horizontally) and at least 0.6 m in front of them.
+REASONABLE = {"x": (-0.6, 0.6), "y": (1.0, 2.3), "z": (0.6, 1.5), "radius": 1.5}
+
+
+def reasonable_starts(rng: np.random.Generator, count: int) -> np.ndarray:
+    """``count`` start points drawn uniformly from :data:`REASONABLE` (worker frame [m])."""
+    found = np.empty((0, 3))
+    while len(found) < count:
+        draw = rng.uniform([REASONABLE[a][0] for a in "xyz"], [REASONABLE[a][1] for a in "xyz"],
+                           size=(4 * count, 3))
+        found = np.vstack([found, draw[np.hypot(draw[:, 0], draw[:, 2])
+                                        <= REASONABLE["radius"]]])
+    return found[:count]
 
 
 def shortest_distance(start: np.ndarray, boundary: Boundary) -> np.ndarray:
@@ -70,19 +88,19 @@ def paper_result(start: np.ndarray, method: str) -> float:
 
 class Comparison(NamedTuple):
     """The comparison table (one row per start and method, start-major) and, per row, the
-    robot's carry, its hold at the location on its own, and the twin's posture there."""
+    robot's planned carry and the twin's posture at the location."""
 
     table: pd.DataFrame
-    carries: list[Carry]
-    handovers: list[Reach]
+    plans: list[Plan]
     postures: list[WorkerPosture]
 
 
 def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | None = None,
-            robot: RobotSpec | None = None, score: str = "paper_postural",
-            spacing: float = CARRY_SPACING) -> Comparison:
+            robot: RobotSpec | None = None, score: str = "paper_postural", seed: int = 0,
+            workers: int = 1, budget: int = DEFAULT_BUDGET,
+            methods: tuple[str, ...] = METHODS) -> Comparison:
     """Both handover locations for every start: the twin's scores there and the robot's
-    feasibility of carrying the box there in a straight line and holding it.
+    planned carry of the box there (:mod:`..scene.planner`).
 
     Args:
         starts: (S, 3) start points of the box, worker frame [m].
@@ -90,25 +108,28 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
         evaluator: the worker and scoring (default: the landscape's defaults).
         robot: where the robot stands.
         score: the score the optimised location minimises.
-        spacing: distance between carry samples [m].
+        seed: spawns each carry's planning seed.
+        workers: processes planning carries at a time.
+        budget: robot poses checked per grasp before a carry is ``no_path``.
+        methods: which of :data:`METHODS` to compare.
 
     Returns:
         Columns: ``start_x, start_y, start_z, method, x, y, z, distance_m`` (start to
         location), the Evaluation columns at the location (``feasible``, ``reason``, every
         score, ...), ``paper_postural_paper`` (the paper's number, NaN for other starts),
-        ``robot_feasible`` (0/1: the handover and every carry sample reachable),
-        ``robot_reason`` (``handover: <reasons>`` if the robot cannot hold the box at the
-        location at all, else which checks failed over which part of the carry, e.g.
-        ``robot_ik 0-40%``), ``robot_handover`` (0/1: it can hold the box at the location,
-        with any grasp), ``robot_error_m`` (the worse gripper's miss there [m]),
-        ``carry_samples``.
+        ``robot_feasible`` (0/1: the carry was planned), ``robot_reason`` (empty, or why not:
+        one of :data:`~..scene.planner.PLAN_REASONS` and what failed), ``robot_handover``
+        (0/1: the robot can hold the box at the location), ``planning_s``, ``path_length_m``
+        (the box's path), ``waypoints``, ``clearance_m`` (the robot's smallest distance to the
+        worker along the carry), ``checks`` (robot poses checked), ``grasp`` (approach yaw in
+        degrees, ``flipped`` when the fingers close from below).
     """
     evaluator = evaluator or Evaluator()
     starts = np.asarray(starts, dtype=float).reshape(-1, 3)
     best = optimised(landscape, score)
     rows = [(start, method, best if method == "optimised"
              else shortest_distance(start, landscape.grid.boundary))
-            for start in starts for method in METHODS]
+            for start in starts for method in methods]
     locations = np.array([loc for _, _, loc in rows])
     # One solve per location: the table's scores and the posture the scene shows.
     scores = evaluate(locations, evaluator.body, evaluator.task, evaluator.solver,
@@ -116,12 +137,10 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
     names = posture_solver(evaluator).model.joint_names
     postures = [WorkerPosture(names, q) for q in joint_angles(scores)]
     scores = scores.drop(columns=[c for c in scores.columns if c.startswith(JOINT_PREFIX)])
-    carries, handovers = [], []
-    with World(evaluator.body, evaluator.task, robot) as world:
-        for (start, _, location), posture in zip(rows, postures, strict=True):
-            # The handover on its own (any grasp, fresh IK), then the carry that ends in it.
-            handovers.append(world.reach(location, posture))
-            carries.append(world.carry(start, location, posture, spacing))
+    jobs = [CarryJob(start, location, posture)
+            for (start, _, location), posture in zip(rows, postures, strict=True)]
+    plans = list(plan_carries(jobs, evaluator.body, evaluator.task, robot, seed, workers,
+                              budget))
     head = pd.DataFrame({
         "start_x": [r[0][0] for r in rows], "start_y": [r[0][1] for r in rows],
         "start_z": [r[0][2] for r in rows], "method": [r[1] for r in rows],
@@ -130,11 +149,15 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
                                                   axis=1))
     table = pd.concat([head, scores], axis=1)
     table["paper_postural_paper"] = [paper_result(s, m) for s, m, _ in rows]
-    table["robot_feasible"] = [int(h.reachable and c.reachable)
-                               for h, c in zip(handovers, carries, strict=True)]
-    table["robot_reason"] = [c.summary() if h.reachable else f"handover: {h.reason}"
-                             for h, c in zip(handovers, carries, strict=True)]
-    table["robot_handover"] = [int(h.reachable) for h in handovers]
-    table["robot_error_m"] = [h.error_m for h in handovers]
-    table["carry_samples"] = [len(c.samples) for c in carries]
-    return Comparison(table, carries, handovers, postures)
+    table["robot_feasible"] = [int(plan.ok) for plan in plans]
+    table["robot_reason"] = [plan.reason for plan in plans]
+    table["robot_handover"] = [int(not plan.reason.startswith("unreachable_handover"))
+                               for plan in plans]
+    table["planning_s"] = [plan.planning_s for plan in plans]
+    table["path_length_m"] = [plan.length_m for plan in plans]
+    table["waypoints"] = [len(plan.waypoints) for plan in plans]
+    table["clearance_m"] = [plan.clearance_m for plan in plans]
+    table["checks"] = [plan.checks for plan in plans]
+    table["grasp"] = [f"{plan.grasp[0]:g}{' flipped' if plan.grasp[1] else ''}"
+                      for plan in plans]
+    return Comparison(table, plans, postures)
