@@ -37,8 +37,9 @@ def with_robot(table: pd.DataFrame, task, workers: int) -> pd.DataFrame:
     worker gripping it there? Adds ``robot_held`` (0/1, empty for the other rows),
     ``robot_reason`` and ``robot_clearance_m``."""
     table = table.copy()
-    for column in ("robot_held", "robot_reason", "robot_clearance_m"):
-        table[column] = pd.Series([pd.NA] * len(table), dtype=object)
+    table["robot_held"] = pd.Series([pd.NA] * len(table), dtype="Int64")
+    table["robot_reason"] = pd.Series([pd.NA] * len(table), dtype=object)
+    table["robot_clearance_m"] = float("nan")
     for worker, rows in table[table["location"].isin(SERVED)].groupby("worker", sort=False):
         evaluator = Evaluator(BodySpec.from_percentile(worker), task)
         held = holds(rows[["x", "y", "z"]].to_numpy(), evaluator, RobotSpec(), workers)

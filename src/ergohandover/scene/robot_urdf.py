@@ -37,6 +37,7 @@ STAND_BEHIND = 0.05  # the stand's centre behind the arm bases [m]
 CROSSBAR_THICKNESS = 0.04  # the plate the arm bases sit on [m]
 LIFT_EFFORT_N, LIFT_VELOCITY = 2000.0, 0.3  # a column lift's push and speed [N, m/s]
 DRIVE_EFFORT_N, DRIVE_VELOCITY = 500.0, 0.5  # the mobile base's push and speed [N, m/s]
+MAST_DEPTH, MAST_WIDTH = 0.16, 0.30  # the lift's mast, drawn under the crossbar [m]
 PLATFORM_HEIGHT = 0.10  # the mobile base's deck; the stand stands on it [m]
 GREY = "0.55 0.57 0.6 1"
 
@@ -121,8 +122,16 @@ def robot_urdf(spec) -> str:
     lines += ['  <joint name="stand_mount" type="fixed"><parent link="mobile_base"/>'
               '<child link="stand"/><origin xyz="0 0 0" rpy="0 0 0"/></joint>']
     # The crossbar rides on the lift; at lift 0 its top (the arm bases) is at mount_height.
-    lines += _box_link("crossbar", (STAND_DEPTH, width, CROSSBAR_THICKNESS),
-                       (-STAND_BEHIND, 0.0, -CROSSBAR_THICKNESS / 2), 10.0)
+    crossbar = _box_link("crossbar", (STAND_DEPTH, width, CROSSBAR_THICKNESS),
+                         (-STAND_BEHIND, 0.0, -CROSSBAR_THICKNESS / 2), 10.0)
+    # The lift's mast under the crossbar, as long as its travel: drawn only (it slides inside
+    # the stand, so it has no collision shape), so that a raised crossbar is seen to be held.
+    mast = (MAST_DEPTH, MAST_WIDTH, spec.lift_range)
+    centre = (-STAND_BEHIND, 0.0, -CROSSBAR_THICKNESS - spec.lift_range / 2)
+    crossbar.insert(-1, f'    <visual><origin xyz="{_vec(centre)}" rpy="0 0 0"/>'
+                        f'<geometry><box size="{_vec(mast)}"/></geometry>'
+                        f'<material name="stand_grey"><color rgba="{GREY}"/></material></visual>')
+    lines += crossbar
     lines += ['  <joint name="torso_lift" type="prismatic"><parent link="stand"/>'
               '<child link="crossbar"/>'
               f'<origin xyz="0 0 {_num(spec.mount_height)}" rpy="0 0 0"/><axis xyz="0 0 1"/>'
