@@ -59,8 +59,8 @@ def test_readme_baseline_table_is_the_committed_result():
         assert cells[3].split()[0] == str(int(short["paper_postural"]))
         assert cells[4] == f"{int(opt['reba'])} / {int(short['reba'])}"
         assert cells[5] == f"{int(opt['rula'])} / {int(short['rula'])}"
-        robot = "yes" if opt["robot_feasible"] else "no"
-        assert cells[6].startswith(robot)
+        robot = [("yes" if row["robot_feasible"] else "no") for row in (opt, short)]
+        assert cells[6] == " / ".join(robot)
 
 
 def test_readme_landscape_table_is_the_committed_result():
@@ -133,3 +133,43 @@ def test_readme_knee_height_postures_quote_the_committed_result():
     index = feasible["postural_index"]
     assert f"postural index {index.min():.2f}–{index.max():.2f}" in text
     assert set(table["worker"]) == {"p5-female", "p50-female", "p50-male", "p95-male"}
+
+
+def test_readme_carry_table_is_the_committed_result():
+    table = pd.read_csv(ROOT / "results" / "baselines" / "baselines.csv",
+                        keep_default_na=False, na_values=[""])
+    block = README.split("Each carry of the table")[1].split("\n\n")[1]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in block.splitlines()[2:]]
+    assert len(rows) == len(table) == 10
+    for cells, (i, row) in zip(rows, table.iterrows(), strict=True):
+        assert cells[0] == str(i // 2 + 1) and cells[1] == row["method"].replace("_", " ")
+        assert cells[2] == ("yes" if row["robot_feasible"] else f"no: {row['robot_reason']}")
+        if row["robot_feasible"]:
+            assert cells[3:] == [f"{row['planning_s']:.1f}", f"{row['path_length_m']:.2f}",
+                                 str(row["waypoints"]), f"{100 * row['clearance_m']:.1f}",
+                                 f"{row['replay_penetration_mm']:.1f}",
+                                 f"{row['replay_joint_step_rad']:.3f}"]
+
+
+def test_readme_other_starts_and_reachability_quote_the_committed_result():
+    others = pd.read_csv(ROOT / "results" / "baselines" / "other_starts.csv")
+    block = README.split("Five more starts")[1].split("\n\n")[1]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in block.splitlines()[2:]]
+    assert len(rows) == len(others)
+    for cells, (_, row) in zip(rows, others.iterrows(), strict=True):
+        assert cells[0] == f"({row.start_x:.3f}, {row.start_y:.3f}, {row.start_z:.3f})"
+        assert cells[1] == ("yes" if row.robot_feasible else f"no: {row.robot_reason}")
+        if row.robot_feasible:
+            assert cells[2:] == [f"{row.planning_s:.1f}", f"{row.path_length_m:.2f}",
+                                 str(row.waypoints), f"{100 * row.clearance_m:.1f}"]
+    reach = pd.read_csv(ROOT / "results" / "baselines" / "reachability_summary.csv").iloc[0]
+    text = " ".join(README.split("**Where the robot can hand over.**")[1].split("\n\n")[0]
+                    .split())
+    assert f"{int(reach.held):,} of {int(reach.locations):,} locations" in text
+    assert (f"({reach.held_x:.3f}, {reach.held_y:.3f}, {reach.held_z:.3f}) m, score "
+            f"{reach.held_optimum:g}") in text
+    assert (f"({reach.optimum_x:.3f}, {reach.optimum_y:.3f}, {reach.optimum_z:.3f}) m, score "
+            f"{reach.optimum:g}") in text
+    participants = pd.read_csv(ROOT / "results" / "participants" / "participants.csv")
+    served = participants.dropna(subset=["robot_held"])
+    assert f"{int(served['robot_held'].sum())} of {len(served)}" in text
