@@ -35,8 +35,8 @@ PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "sen
 ESTIMATE_S = {"default": {"landscape": 150, "learning": 140, "baselines": 165,
                           "ablations": 65, "participants": 85, "sensitivity": 95,
                           "validation": 5, "figures": 15},
-              "quick": {"landscape": 5, "learning": 10, "baselines": 25, "ablations": 15,
-                        "participants": 5, "sensitivity": 15, "validation": 5,
+              "quick": {"landscape": 5, "learning": 10, "baselines": 85, "ablations": 15,
+                        "participants": 10, "sensitivity": 60, "validation": 5,
                         "figures": 15}}
 FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
                   "fig_participants", "fig_sensitivity", "fig_validation", "make_tables")
