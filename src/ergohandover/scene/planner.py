@@ -31,7 +31,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..frames import worker_to_world
-from .robot import Reach
+from .robot import GRASPS, Reach
 from .robot_collision import touches
 
 EDGE_RESOLUTION_M = 0.02  # poses checked along every edge, at most this far apart
@@ -138,28 +138,27 @@ class CarryPlanner:
         self._cache: dict[tuple, object] = {}
 
     # -- states -------------------------------------------------------------------------
-    def holds(self, location, lift: float, grasp, posture=None):
+    def holds(self, location, lift: float, grasp, posture=None, seed=None):
         """The robot's hold of the box at ``location`` and ``lift`` with ``grasp``: a
         :class:`~.robot.Reach`, unreachable also when the box touches the worker (unless the
-        worker takes ``posture``, its grip on the box). The IK starts from the rest pose, so
-        the answer is a function of the state alone (and cached as such)."""
-        from .robot_collision import touches
-
-        key = (*np.round(np.asarray(location, dtype=float), 9), round(float(lift), 9),
-               grasp, posture is not None)
-        if key in self._cache:
+        worker takes ``posture``, its grip on the box). ``seed``: arm -> joint angles the IK
+        starts from (a neighbouring pose); without one it starts from the ready pose, so the
+        answer is a function of the state alone, and is cached as such."""
+        location = np.asarray(location, dtype=float)
+        key = (*np.round(location, 9), round(float(lift), 9), grasp, posture is not None)
+        if seed is None and key in self._cache:
             return self._cache[key]
         self.checks += 1
         world = self.world
-        location = np.asarray(location, dtype=float)
-        if not self._within_reach(location, lift):
+        if seed is None and not self._within_reach(location, lift):
             reach = Reach(False, "robot_ik", math.inf, math.inf, grasp[0], grasp[1], {})
         else:
-            reach = world.reach(location, posture, [grasp], lift=lift)
+            reach = world.reach(location, posture, [grasp], seed, lift=lift)
             if reach.reachable and posture is None and touches(
                     world.p, world.box.body_id, world.worker.body_id, world.client):
                 reach = reach._replace(reachable=False, reason="box_touches_worker")
-        self._cache[key] = reach
+        if seed is None:
+            self._cache[key] = reach
         return reach
 
     def _within_reach(self, location, lift: float) -> bool:
@@ -186,8 +185,6 @@ class CarryPlanner:
         """Plan the carry from ``start`` to the handover at ``location`` (worker frame [m]),
         where the worker takes ``posture``. Tries each grasp in turn (the robot cannot change
         its grip mid-carry) and keeps the first that gives a path, else the furthest failure."""
-        from .robot import GRASPS
-
         began, self.checks = time.perf_counter(), 0
         start, location = np.asarray(start, float), np.asarray(location, float)
         worst = None
@@ -255,16 +252,7 @@ class CarryPlanner:
             at_goal = bool(np.allclose(point[:3], location, atol=1e-9))
             if at_goal:
                 self.world.pose_worker(posture)
-            if seed is None:
-                reach = self.holds(point[:3], point[3], grasp, posture if at_goal else None)
-            else:
-                self.checks += 1
-                reach = self.world.reach(point[:3], posture if at_goal else None, [grasp], seed,
-                                         lift=point[3])
-                if reach.reachable and not at_goal and touches(
-                        self.world.p, self.world.box.body_id, self.world.worker.body_id,
-                        self.world.client):
-                    reach = reach._replace(reachable=False, reason="box_touches_worker")
+            reach = self.holds(point[:3], point[3], grasp, posture if at_goal else None, seed)
             if at_goal:
                 self.world.pose_worker(None)
             return reach
