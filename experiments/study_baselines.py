@@ -9,8 +9,8 @@ planned carry), baselines.md (with each path file replayed on urdf/robot_default
 self-penetration, largest joint step), paths/ (a CSV per planned carry: time, box pose, every
 robot joint), other_starts.csv (carries to the optimum from starts drawn around the worker),
 reachability.csv and reachability_summary.csv (where the robot can hold the box over the
-landscape's boundary, and the best location it can hold), renders/ (a PNG per start and
-method, a contact sheet, a GIF per planned carry), manifest.json.
+configured boundaries, and the best location of the landscape it can hold), renders/ (a PNG
+per start and method, a contact sheet, a GIF per planned carry), manifest.json.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import study_landscape
 
 from ergohandover.cli.baseline import markdown_table, render, write_paths
 from ergohandover.io.atomic import atomic_write, atomic_write_csv
+from ergohandover.landscape.grid import parse_boundary
 from ergohandover.scene.carries import replay
 from ergohandover.scene.robot import RobotSpec
 from ergohandover.study.baselines import PAPER_STARTS, compare, reasonable_starts
@@ -42,19 +43,23 @@ def other_starts(landscape, evaluator, robot, part: dict, workers: int) -> pd.Da
                    methods=("optimised",)).table
 
 
-def reach_summary(reach: pd.DataFrame, best) -> pd.DataFrame:
-    """One row: the share of the grid the robot holds, and both optima."""
-    return pd.DataFrame([{
-        "locations": len(reach), "held": int(reach["held"].sum()),
-        "held_fraction": float(reach["held"].mean()),
-        "held_fraction_twin_feasible": float(reach.loc[reach["twin_feasible"] == 1,
-                                                       "held"].mean()),
-        "smallest_clearance_m": float(reach["clearance_m"].min()),
-        "score": best.score, "optimum": best.best,
-        "optimum_x": best.best_location[0], "optimum_y": best.best_location[1],
-        "optimum_z": best.best_location[2], "held_optimum": best.held,
-        "held_x": best.held_location[0], "held_y": best.held_location[1],
-        "held_z": best.held_location[2], "held_rank": best.rank}])
+def reach_summary(reach: pd.DataFrame, best, steps: dict) -> pd.DataFrame:
+    """One row per boundary: the share of its grid the robot holds; and both optima of the
+    landscape (the same in every row)."""
+    rows = []
+    for name, grid in reach.groupby("boundary", sort=False):
+        rows.append({
+            "boundary": name, "step_m": steps[name], "locations": len(grid),
+            "held": int(grid["held"].sum()), "held_fraction": float(grid["held"].mean()),
+            "held_fraction_twin_feasible": float(grid.loc[grid["twin_feasible"] == 1,
+                                                          "held"].mean()),
+            "smallest_clearance_m": float(grid["clearance_m"].min()),
+            "score": best.score, "optimum": best.best,
+            "optimum_x": best.best_location[0], "optimum_y": best.best_location[1],
+            "optimum_z": best.best_location[2], "held_optimum": best.held,
+            "held_x": best.held_location[0], "held_y": best.held_location[1],
+            "held_z": best.held_location[2], "held_rank": best.rank})
+    return pd.DataFrame(rows)
 
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
@@ -81,16 +86,20 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
         print(markdown, end="")
         others = other_starts(landscape, evaluator, robot, part, workers)
         atomic_write_csv(others, folder / "other_starts.csv")
-        reach = reachability(landscape, evaluator, robot, part["reach_step"], workers)
+        reach = pd.concat([reachability(
+            parse_boundary(name, evaluator.body, evaluator.task), evaluator, robot, step,
+            workers).assign(boundary=name) for name, step in part["reach"].items()])
         atomic_write_csv(reach, folder / "reachability.csv")
         best = restricted_optimum(landscape, evaluator, robot, workers=workers)
-        atomic_write_csv(reach_summary(reach, best), folder / "reachability_summary.csv")
+        atomic_write_csv(reach_summary(reach, best, part["reach"]),
+                         folder / "reachability_summary.csv")
         if part["render"]:
             render(result, evaluator, robot, folder / "renders")
         return {"starts": len(PAPER_STARTS),
                 "carries_planned": sum(plan.ok for plan in result.plans),
                 "other_starts_planned": int(others["robot_feasible"].sum()),
-                "reachable_fraction": float(reach["held"].mean())}
+                "held_fraction": {name: float(grid["held"].mean())
+                                  for name, grid in reach.groupby("boundary", sort=False)}}
 
     run_part("baselines", results / "baselines", part, work, seeds={"planner": part["seed"]},
              force=force)

@@ -46,28 +46,32 @@ def main() -> None:
 
 def reachability_figure() -> None:
     reach = read("baselines/reachability.csv")
-    best = read("baselines/reachability_summary.csv").iloc[0]
-    depths = sorted(reach["z"].round(6).unique())
-    shown = [depths[0], depths[len(depths) // 2], depths[-1]]
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4.2), sharey=True)
-    for ax, z in zip(axes, shown, strict=True):
-        layer = reach[reach["z"].round(6) == z]
-        for held, style in ((1, {"marker": "o", "color": "#31a354", "label": "held"}),
-                            (0, {"marker": "x", "color": "#d62728", "label": "not held"})):
-            part = layer[layer["held"] == held]
-            ax.scatter(part["x"], part["y"], s=18, **style)
-        ax.set_title(f"z = {z:.2f} m (in front of the feet)")
-        ax.set_xlabel("x [m] (worker's right +)")
-    for ax in axes:  # both optima, on every panel, with their depth
-        ax.scatter([best.optimum_x], [best.optimum_y], marker="*", s=160, color="#08519c",
-                   label=f"optimum (z {best.optimum_z:.2f} m)", zorder=5)
-        ax.scatter([best.held_x], [best.held_y], marker="+", s=160, color="black",
-                   label=f"best held (z {best.held_z:.2f} m)", zorder=6)
-    axes[0].set_ylabel("y [m] (height)")
-    axes[0].legend(fontsize=8, loc="lower left")
-    fig.suptitle(f"Where the robot holds the box for the handover: {best.held_fraction:.1%} "
-                 f"of {int(best.locations)} locations; optimum {best.optimum:g}, best held "
-                 f"{best.held_optimum:g}")
+    summary = read("baselines/reachability_summary.csv").set_index("boundary")
+    best = summary.iloc[0]
+    grids = list(summary.index)
+    fig, axes = plt.subplots(len(grids), 3, figsize=(12, 4.2 * len(grids)), squeeze=False)
+    for row, name in zip(axes, grids, strict=True):
+        grid = reach[reach["boundary"] == name]
+        depths = sorted(grid["z"].round(6).unique())
+        for ax, z in zip(row, [depths[0], depths[len(depths) // 2], depths[-1]], strict=True):
+            layer = grid[grid["z"].round(6) == z]
+            for held, style in ((1, {"marker": "o", "color": "#31a354", "label": "held"}),
+                                (0, {"marker": "x", "color": "#d62728",
+                                     "label": "not held"})):
+                part = layer[layer["held"] == held]
+                ax.scatter(part["x"], part["y"], s=18, **style)
+            ax.scatter([best.optimum_x], [best.optimum_y], marker="*", s=160, color="#08519c",
+                       label=f"optimum (z {best.optimum_z:.2f} m)", zorder=5)
+            ax.scatter([best.held_x], [best.held_y], marker="+", s=160, color="black",
+                       label=f"best held (z {best.held_z:.2f} m)", zorder=6)
+            ax.set_title(f"{name} boundary: z = {z:.2f} m "
+                         f"({summary.loc[name, 'held_fraction']:.0%} of the grid held)",
+                         fontsize=10)
+            ax.set_xlabel("x [m] (worker's right +)")
+        row[0].set_ylabel("y [m] (height)")
+    axes[0][0].legend(fontsize=8, loc="lower left")
+    fig.suptitle(f"Where the robot holds the box for the handover (the twin gripping it); "
+                 f"optimum {best.optimum:g}, best held {best.held_optimum:g}")
     fig.tight_layout()
     save(fig, "robot_reachability.png")
 

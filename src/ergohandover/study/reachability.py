@@ -7,7 +7,7 @@ at arm's length): PyBullet's IK within the tolerances, inside the joint limits, 
 neither itself, the box nor the worker (:meth:`~..scene.world.World.reach`). The first
 lift that holds is kept, with the robot's smallest distance to the worker there.
 
-- :func:`reachability`: the grid's table (one row per location).
+- :func:`reachability`: a boundary's grid, one row per location.
 - :func:`restricted_optimum`: the landscape's feasible locations in order of score (the most
   symmetric first among equal scores, as :func:`~..landscape.stats.optimum` picks) until the
   robot holds one: the best handover the robot can serve, beside the unrestricted optimum.
@@ -27,8 +27,9 @@ from ..landscape.stats import most_symmetric, optimum
 from ..scene.robot import RobotSpec
 from ..scene.world import WorkerPosture, World
 from ..twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
+from ..twin.task import Boundary
 
-LIFTS = (0.0, 0.2, 0.4, 0.6)  # lifts tried, lowest first [m]: the handover heights need no more
+LIFTS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # lifts tried, lowest first [m]
 REACH_STEP = 0.04  # the reachability grid's step [m]
 CHUNK = 64  # locations per job
 MAX_CANDIDATES = 512  # best locations tried for the restricted optimum
@@ -93,12 +94,11 @@ def holds(locations: np.ndarray, evaluator: Evaluator | None = None,
     return table
 
 
-def reachability(landscape: Landscape, evaluator: Evaluator | None = None,
+def reachability(boundary: Boundary, evaluator: Evaluator | None = None,
                  robot: RobotSpec | None = None, step: float = REACH_STEP,
                  workers: int = 1) -> pd.DataFrame:
-    """:func:`holds` over the landscape's boundary at ``step`` [m]."""
-    grid = Grid(landscape.grid.boundary, step)
-    return holds(grid.points(), evaluator, robot, workers)
+    """:func:`holds` over a boundary every ``step`` [m]."""
+    return holds(Grid(boundary, step).points(), evaluator, robot, workers)
 
 
 def restricted_optimum(landscape: Landscape, evaluator: Evaluator | None = None,
