@@ -166,6 +166,10 @@ def test_readme_other_starts_and_reachability_quote_the_committed_result():
     text = " ".join(README.split("**Where the robot can hand over.**")[1].split("\n\n")[0]
                     .split())
     assert f"{int(reach.held):,} of {int(reach.locations):,} locations" in text
+    body = pd.read_csv(ROOT / "results" / "baselines" / "reachability_summary.csv").iloc[1]
+    assert body.boundary == "body"
+    assert f"every {100 * body.step_m:.0f} cm at {int(body.held):,} of {int(body.locations):,}" \
+        in text
     assert (f"({reach.held_x:.3f}, {reach.held_y:.3f}, {reach.held_z:.3f}) m, score "
             f"{reach.held_optimum:g}") in text
     assert (f"({reach.optimum_x:.3f}, {reach.optimum_y:.3f}, {reach.optimum_z:.3f}) m, score "

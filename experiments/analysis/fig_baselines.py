@@ -64,11 +64,10 @@ def reachability_figure() -> None:
                        label=f"optimum (z {best.optimum_z:.2f} m)", zorder=5)
             ax.scatter([best.held_x], [best.held_y], marker="+", s=160, color="black",
                        label=f"best held (z {best.held_z:.2f} m)", zorder=6)
-            ax.set_title(f"{name} boundary: z = {z:.2f} m "
-                         f"({summary.loc[name, 'held_fraction']:.0%} of the grid held)",
-                         fontsize=10)
+            ax.set_title(f"{name} boundary, z = {z:.2f} m", fontsize=10)
             ax.set_xlabel("x [m] (worker's right +)")
-        row[0].set_ylabel("y [m] (height)")
+        row[0].set_ylabel(f"{name}: {summary.loc[name, 'held_fraction']:.0%} held\n"
+                          "y [m] (height)")
     axes[0][0].legend(fontsize=8, loc="lower left")
     fig.suptitle(f"Where the robot holds the box for the handover (the twin gripping it); "
                  f"optimum {best.optimum:g}, best held {best.held_optimum:g}")
