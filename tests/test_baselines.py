@@ -166,3 +166,12 @@ def test_a_negative_start_is_taken_as_typed(capsys, tiny_landscape, tmp_path):
     table = pd.read_csv(out)
     assert table[["start_x", "start_y", "start_z"]].iloc[0].tolist() == [-0.3, 1.1, 0.6]
     assert table["x"].iloc[1] == pytest.approx(TINY.x[0])  # the nearest boundary point
+
+
+def test_a_negative_planner_seed_is_one_line_and_writes_nothing(capsys, tmp_path):
+    out = tmp_path / "b.csv"
+    assert main(["baseline", "--seed", "-1", "--output", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("ergohandover baseline: error: seed = -1 is not allowed "
+                   "(use an integer >= 0)")
+    assert not out.exists()

@@ -162,6 +162,8 @@ def markdown_table(table: pd.DataFrame) -> str:
 def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     check_workers(args.workers)
+    if args.seed < 0:
+        raise InputError(f"seed = {args.seed} is not allowed (use an integer >= 0)")
     starts = np.array([parse_start(s) for s in args.start]) if args.start else PAPER_STARTS
     try:
         robot = RobotSpec(distance=args.robot_distance, drive_range=args.robot_drive,
@@ -175,8 +177,6 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
                          "not exist")
     landscape, source = obtain_landscape(args, evaluator)
-    if args.seed < 0:
-        raise InputError(f"seed = {args.seed} is not allowed (use an integer >= 0)")
     result = compare(starts, landscape, evaluator, robot, seed=args.seed,
                      workers=args.workers)
     output = args.output or run_folder("baseline") / "baselines.csv"

@@ -1,14 +1,15 @@
-"""The dual-arm robot: two 7-DOF Franka Panda arms on a stand with a vertical lift, facing the
-worker.
+"""The dual-arm robot: two 7-DOF Franka Panda arms on a stand with a vertical lift, on a mobile
+base that drives toward the worker; both arms face the worker.
 
-The robot is one body loaded from its URDF (:mod:`.robot_urdf`: the stand, the lift, and the
-arms from pybullet_data's ``franka_panda/panda.urdf``, Apache-2.0, see ``urdf/README.md``).
-Seen from the worker (world frame: the worker at the origin facing +x, left = +y), the bases
-stand ``distance`` in front of the worker's feet, ``arm_spacing`` apart, at ``mount_height``
-plus the lift; both arms face the worker. PyBullet's IK for each arm runs on a plain Panda
-placed :data:`IK_OFFSET` below at that arm's base pose, and its answer is set on the robot.
-The ``left`` arm (at +y) holds the handle in the worker's left hand, the ``right`` arm the
-other one. See ``docs/robot.md`` for why the defaults are what they are.
+The robot is one body loaded from its URDF (:mod:`.robot_urdf`: the mobile base, the stand, the
+lift, and the arms from pybullet_data's ``franka_panda/panda.urdf``, Apache-2.0, see
+``urdf/README.md``). Seen from the worker (world frame: the worker at the origin facing +x,
+left = +y), the arm bases stand ``distance`` in front of the worker's feet less the drive,
+``arm_spacing`` apart, at ``mount_height`` plus the lift (:meth:`DualArmRobot.set_base`).
+PyBullet's IK for each arm runs on a plain Panda placed :data:`IK_OFFSET` below at that arm's
+base pose, and its answer is set on the robot. The ``left`` arm (at +y) holds the handle in
+the worker's left hand, the ``right`` arm the other one. See ``docs/robot.md`` for why the
+defaults are what they are.
 
 The box is held level by both grippers at its ``{side}_robot_grasp`` frames (see
 :mod:`.box`). The fingers close vertically on the horizontal rail, so any
