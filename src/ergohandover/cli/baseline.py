@@ -238,8 +238,9 @@ def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list
             if plan.ok:
                 last = plan.waypoints[-1]
                 arms, lift = last.q, last.lift
-            else:
-                arms, lift = _best_hold(world, location, posture)
+            else:  # the hold found at the location on its own, else the lowest lift's try
+                reach, lift = world.hold_at_some_lift(location, posture)
+                arms = reach.q
             renderer.pose(location, arms, posture, lift)
             views = renderer.views()
             name = f"start{i // 2 + 1}_{row['method']}"
@@ -252,12 +253,3 @@ def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list
           file=sys.stderr)
     return [*paths, sheet, *gifs]
 
-
-def _best_hold(world, location, posture) -> tuple[dict, float]:
-    """The arms and lift of the first lift at which the robot holds the box at ``location``
-    (else the last attempt), for a picture of a carry that could not be planned."""
-    for lift in np.linspace(0.0, world.robot.spec.lift_range, 6):
-        reach = world.reach(location, posture, lift=float(lift))
-        if reach.reachable:
-            break
-    return reach.q, float(lift)

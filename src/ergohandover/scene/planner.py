@@ -30,9 +30,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import ConfigError
-from ..frames import worker_to_world
 from .robot import GRASPS, Reach
-from .robot_collision import touches
+from .robot_collision import clearance, touches
 
 EDGE_RESOLUTION_M = 0.02  # poses checked along every edge, at most this far apart
 # Largest joint motion between two poses [rad] (the lift's [m]): the arms' IK answers of
@@ -64,13 +63,13 @@ class PlannerError(ConfigError):
 
 
 class Waypoint(NamedTuple):
-    """One pose of a planned carry: time [s], box centre (3,) worker frame [m], the lift and
-    the base's drive [m], and each arm's seven joint angles [rad]."""
+    """One pose of a planned carry: time [s], box centre (3,) worker frame [m], the lift [m]
+    (the base's drive follows the box, :meth:`~.world.World.bring_robot`), and each arm's
+    seven joint angles [rad]."""
 
     time: float
     location: np.ndarray
     lift: float
-    drive: float
     q: dict[str, np.ndarray]
 
 
@@ -217,10 +216,8 @@ class CarryPlanner:
                              [np.array([*location, h]) for h in lifts1], grasp, posture)
         if chain is None:
             return failed("no_path")
-        drive = self.world.robot.drive_for
-        timed = _time_parametrise([
-            Waypoint(0.0, point[:3].copy(), float(point[3]),
-                     drive(float(worker_to_world(point[:3])[0])), q) for point, q in chain])
+        timed = _time_parametrise([Waypoint(0.0, point[:3].copy(), float(point[3]), q)
+                                   for point, q in chain])
         length = float(sum(np.linalg.norm(b.location - a.location)
                            for a, b in itertools.pairwise(timed)))
         return Plan("", grasp, timed, time.perf_counter() - began, length,
@@ -230,7 +227,7 @@ class CarryPlanner:
         """OMPL's RRT-Connect from any of ``starts`` to any of ``goals`` (x, y, z, lift; the
         goals share one location, where the worker takes ``posture``): the simplified path's
         poses, (state (4,), arm -> joint angles), or None when no path was found within the
-        time limit."""
+        budget."""
         ob, og, ou = _ompl()
         _seed_ompl(ou, self.seed)  # before OMPL makes any generator
         space = ob.RealVectorStateSpace(4)
@@ -319,6 +316,7 @@ class CarryPlanner:
         si.setStateValidityChecker(valid)
         si.setMotionValidator(Following(si))
         si.setup()
+
         def state(vector):
             allocated = si.allocState()
             for k in range(4):
@@ -381,9 +379,8 @@ class CarryPlanner:
             world.bring_robot(w.location, w.lift)
             for arm, q in w.q.items():
                 world.robot.set_arm(arm, q)
-            points = world.p.getClosestPoints(world.robot.body, world.worker.body_id, 1.0,
-                                              physicsClientId=world.client)
-            smallest = min([smallest, *(pt[8] for pt in points)])
+            smallest = min(smallest, clearance(world.p, world.robot.body,
+                                               world.worker.body_id, world.client))
         world.pose_worker(None)
         return float(smallest)
 

@@ -205,7 +205,7 @@ class DualArmRobot:
         """Raise the crossbar (and both arms) ``lift`` [m] above its lowest position and drive
         the base ``drive`` [m] toward the worker from its home."""
         p, c = self.p, self.client
-        self.lift, self.drive = float(lift), float(drive)
+        self.lift = float(lift)
         p.resetJointState(self.body, self.body_joints[LIFT_JOINT], float(lift),
                           physicsClientId=c)
         p.resetJointState(self.body, self.body_joints[DRIVE_JOINT], float(drive),

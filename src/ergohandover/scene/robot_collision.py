@@ -53,6 +53,13 @@ def deepest_self_penetration(p, body: int, pairs, client: int) -> float:
     return deepest
 
 
+def clearance(p, body: int, other: int, client: int, within: float = 1.0) -> float:
+    """The smallest distance between ``body`` and ``other`` [m] (negative when they
+    interpenetrate); ``within`` when nothing is nearer than that."""
+    points = p.getClosestPoints(body, other, within, physicsClientId=client)
+    return float(min((point[8] for point in points), default=within))
+
+
 def touches(p, body: int, other: int, client: int) -> bool:
     """Does any link of ``body`` penetrate ``other`` deeper than :data:`PENETRATION`?"""
     return any(point[8] < -PENETRATION

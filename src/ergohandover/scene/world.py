@@ -24,6 +24,8 @@ from ..twin.urdf import load_worker
 from .box import HANDLE_RADIUS, load_box
 from .robot import ARMS, DualArmRobot, Reach, RobotSpec
 
+HOLD_LIFTS = 6  # lifts tried by World.hold_at_some_lift, evenly from 0 to the lift's travel
+
 
 class WorkerPosture(NamedTuple):
     """The worker's joint angles [rad] by name (e.g. ``posture_solver(...).model.joint_names``
@@ -119,3 +121,16 @@ class World:
         self.pose_worker(posture)
         return self.robot.reach(self.grasp_targets(), self.box.body_id, self.worker.body_id,
                                 grasps, seed)
+
+    def hold_at_some_lift(self, location: np.ndarray,
+                          posture: WorkerPosture | None = None) -> tuple[Reach, float]:
+        """The first lift (of :data:`HOLD_LIFTS`, lowest first) at which the robot holds the
+        box at ``location`` (worker frame [m]) with the worker in ``posture``, and that hold;
+        when none does, the lowest lift's attempt (its reason says why) and that lift [m]."""
+        first = None
+        for lift in np.linspace(0.0, self.robot.spec.lift_range, HOLD_LIFTS):
+            reach = self.reach(location, posture, lift=float(lift))
+            if reach.reachable:
+                return reach, float(lift)
+            first = first or (reach, float(lift))
+        return first

@@ -2,10 +2,11 @@
 and for the landscape's best locations in turn until one is held.
 
 At each location the twin takes its solved posture (gripping the handles) and the robot tries
-to hold the box there with any grasp at any of :data:`LIFTS` (its base driven to keep the box
-at arm's length): PyBullet's IK within the tolerances, inside the joint limits, touching
-neither itself, the box nor the worker (:meth:`~..scene.world.World.reach`). The first
-lift that holds is kept, with the robot's smallest distance to the worker there.
+to hold the box there with any grasp at six lifts from 0 to the lift's travel, lowest first
+(:meth:`~..scene.world.World.hold_at_some_lift`; its base driven to keep the box at arm's
+length): PyBullet's IK within the tolerances, inside the joint limits, touching neither
+itself, the box nor the worker (:meth:`~..scene.world.World.reach`). The first lift that
+holds is kept, with the robot's smallest distance to the worker there.
 
 - :func:`reachability`: a boundary's grid, one row per location.
 - :func:`restricted_optimum`: the landscape's feasible locations in order of score (the most
@@ -25,11 +26,11 @@ from ..landscape.cache import Landscape
 from ..landscape.grid import Grid
 from ..landscape.stats import most_symmetric, optimum
 from ..scene.robot import RobotSpec
+from ..scene.robot_collision import clearance
 from ..scene.world import WorkerPosture, World
 from ..twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
 from ..twin.task import Boundary
 
-LIFTS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # lifts tried, lowest first [m]
 REACH_STEP = 0.04  # the reachability grid's step [m]
 CHUNK = 64  # locations per job
 MAX_CANDIDATES = 512  # best locations tried for the restricted optimum
@@ -51,15 +52,11 @@ class RestrictedOptimum(NamedTuple):
 
 def _hold(world: World, location, posture) -> tuple[int, str, float, float]:
     """(held, reason, lift, clearance) at one location."""
-    reason = ""
-    for lift in LIFTS:
-        reach = world.reach(location, posture, lift=lift)
-        if reach.reachable:
-            points = world.p.getClosestPoints(world.robot.body, world.worker.body_id, 1.0,
-                                              physicsClientId=world.client)
-            return 1, "", lift, float(min((pt[8] for pt in points), default=1.0))
-        reason = reason or reach.reason
-    return 0, reason, float("nan"), float("nan")
+    reach, lift = world.hold_at_some_lift(location, posture)
+    if not reach.reachable:
+        return 0, reach.reason, float("nan"), float("nan")
+    return 1, "", lift, clearance(world.p, world.robot.body, world.worker.body_id,
+                                  world.client)
 
 
 def _hold_chunk(args) -> list[tuple[int, str, float, float]]:
