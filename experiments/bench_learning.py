@@ -1,7 +1,8 @@
 """Benchmark: env steps/s (landscape and online) and time to the global minimum per agent.
 
 Usage: python experiments/bench_learning.py [--landscape FILE] [--seeds 10] [--time-cap 30]
-       [--agents qlearning,random,hillclimb,dqn] [--rate-steps 2000000] [--online-steps 5000]
+       [--agents qlearning,randomwalk,random,hillclimb,dqn] [--rate-steps 2000000]
+       [--online-steps 5000]
 
 1. Steps/s on a landscape: ``env.step()`` through the Gymnasium API, and each agent's own loop
    (the tabular learner and the search baselines call the env's transition directly).
@@ -31,7 +32,7 @@ from ergohandover.landscape.grid import DEFAULT_STEP, Grid
 from ergohandover.landscape.sweep import sweep
 from ergohandover.learning.qlearning import run_qlearning
 from ergohandover.learning.runner import run_agent
-from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.learning.search import exhaustive, run_hillclimb, run_random, run_randomwalk
 from ergohandover.learning.trace import Budget
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
@@ -94,8 +95,8 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=10, help="runs per agent (default: 10)")
     parser.add_argument("--time-cap", type=float, default=30.0,
                         help="cap per run [s] (default: 30)")
-    parser.add_argument("--agents", default="qlearning,random,hillclimb,dqn",
-                        help="comma-separated agents (default: all four)")
+    parser.add_argument("--agents", default="qlearning,randomwalk,random,hillclimb,dqn",
+                        help="comma-separated agents (default: all five)")
     parser.add_argument("--rate-steps", type=int, default=2_000_000,
                         help="steps per landscape steps/s measurement (default: 2,000,000)")
     parser.add_argument("--online-steps", type=int, default=5_000,
@@ -116,8 +117,8 @@ def main() -> None:
     print("\nsteps/s on the landscape (one core):")
     rate = gym_steps_per_s(HandoverEnv(scores), min(args.rate_steps, 500_000))
     print(f"  env.step() via the Gymnasium API      {rate:>12,.0f} steps/s")
-    for name, run in (("qlearning", run_qlearning), ("random", run_random),
-                      ("hillclimb", run_hillclimb)):
+    for name, run in (("qlearning", run_qlearning), ("randomwalk", run_randomwalk),
+                      ("random", run_random), ("hillclimb", run_hillclimb)):
         rate = agent_rate(run, HandoverEnv(scores), args.rate_steps)
         verdict = ("" if name != "qlearning" else
                    f"   (target >= {TARGET_STEPS_PER_S:,}: "

@@ -1,15 +1,12 @@
-"""Study part `ablations`: what each choice changes.
-
-- objective: paper_postural / reba / reba_ab / rula — each landscape minimum and how fast
-  Q-learning reaches it;
-- temperature: the published code's fixed 0.7 vs the paper's adaptive schedule;
-- human IK: our whole-body solver vs PyBullet's IK, on a coarser grid of the same boundary
-  (PyBullet's IK runs ~380 locations/s, so the paper's 3 mm grid would take hours).
+"""Study part `ablations`: what the choice of human IK changes — our whole-body solver vs
+PyBullet's IK, on a coarser grid of the same boundary (PyBullet's IK runs ~380 locations/s, so
+the paper's 3 mm grid would take hours). The objective (paper_postural / REBA / reba_ab / RULA)
+and the temperature schedule (fixed / adaptive) are targets and agents of the `learning` part.
 
 Usage: python experiments/study_ablations.py [--config ...]
 
-Writes results/ablations/: objectives.csv, temperature.csv (one row per run), ik.csv (one row
-per solver and score), manifest.json; both solvers' landscapes go to the landscape cache.
+Writes results/ablations/: ik.csv (one row per solver and score), manifest.json; both solvers'
+landscapes go to the landscape cache.
 """
 
 from __future__ import annotations
@@ -18,12 +15,9 @@ from pathlib import Path
 
 import pandas as pd
 import study_landscape
-from study_learning import run_jobs, write_runs
 
 from ergohandover.io.atomic import atomic_write_csv
-from ergohandover.landscape.cache import landscape_path
 from ergohandover.landscape.stats import statistics
-from ergohandover.learning.search import exhaustive
 from ergohandover.study.parts import part_config, run_part, study_main
 from ergohandover.twin.anthropometry import BodySpec
 
@@ -35,17 +29,6 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     part = part_config(config, "ablations")
 
     def work(folder: Path) -> dict:
-        landscape = study_landscape.default_landscape(config, workers)
-        landscape_file = landscape_path(landscape.key)
-        truths = {o: exhaustive(landscape, o) for o in part["objectives"]}
-        base = {"cap_s": part["cap_s"], "landscape": str(landscape_file), "agent": "qlearning"}
-        jobs = [{**base, "objective": o, "temperature": t, "seed": seed,
-                 "stop_score": truths[o].score}
-                for o in part["objectives"] for t in part["temperatures"]
-                for seed in range(part["seeds"])]
-        runs = write_runs(run_jobs(jobs, workers, "ablations"), folder)
-        atomic_write_csv(runs[runs["temperature"] == "fixed"], folder / "objectives.csv")
-        atomic_write_csv(runs[runs["objective"] == "paper_postural"], folder / "temperature.csv")
         ik_grid = {"boundary": part["ik_boundary"], "step": part["ik_step"]}
         rows = []
         for solver in ("numpy", "pybullet"):
@@ -57,10 +40,9 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
             stats["grid"] = ik.grid.describe()
             rows.append(stats)
         atomic_write_csv(pd.concat(rows, ignore_index=True), folder / "ik.csv")
-        return {"runs": len(runs)}
+        return {"solvers": 2}
 
-    run_part("ablations", results / "ablations", part, work,
-             seeds={"runs": part["seeds"]}, force=force)
+    run_part("ablations", results / "ablations", part, work, force=force)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,8 @@
 """Study part `baselines`: the paper's comparison of the optimised location with the naive
 shortest-distance location, from its five start points, with the robot's feasibility and
-pictures of each.
+pictures of each. As in the paper, the optimised location is where the learner ended: the best
+location the configured agent found on the configured target and budget of the `learning` part
+(``baselines.location``); the landscape's argmin is recorded beside it.
 
 Usage: python experiments/study_baselines.py [--config ...]
 
@@ -20,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import study_landscape
+import study_learning
 
 from ergohandover.cli.baseline import markdown_table, render, write_paths
 from ergohandover.io.atomic import atomic_write, atomic_write_csv
@@ -35,12 +38,24 @@ ROOT = Path(__file__).resolve().parents[1]
 ROBOT_URDF = ROOT / "urdf" / "robot_default.urdf"
 
 
-def other_starts(landscape, evaluator, robot, part: dict, workers: int) -> pd.DataFrame:
+def learned_location(results: Path, spec: dict) -> pd.Series:
+    """The row of results/learning/found.csv named by ``spec`` (target, agent, budget)."""
+    found = pd.read_csv(results / "learning" / "found.csv")
+    row = found[(found["target"] == spec["target"]) & (found["agent"] == spec["agent"])
+                & (found["budget"] == spec["budget"])]
+    if row.empty:
+        raise SystemExit(f"baselines.location = {spec} names no row of "
+                         f"{results / 'learning' / 'found.csv'}")
+    return row.iloc[0]
+
+
+def other_starts(landscape, evaluator, robot, part: dict, workers: int,
+                 location: np.ndarray) -> pd.DataFrame:
     """Carries to the optimised location from ``part["other_starts"]`` starts drawn around the
     worker (:func:`reasonable_starts`, their own generator)."""
     starts = reasonable_starts(np.random.default_rng(part["starts_seed"]), part["other_starts"])
     return compare(starts, landscape, evaluator, robot, seed=part["seed"], workers=workers,
-                   methods=("optimised",)).table
+                   methods=("optimised",), location=location).table
 
 
 def reach_summary(reach: pd.DataFrame, best, steps: dict) -> pd.DataFrame:
@@ -64,14 +79,22 @@ def reach_summary(reach: pd.DataFrame, best, steps: dict) -> pd.DataFrame:
 
 def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
     study_landscape.run(config, results, workers)  # reused when finished
+    study_learning.run(config, results, workers)  # where the learner ended; reused likewise
     part = part_config(config, "baselines")
 
     def work(folder: Path) -> dict:
         landscape = study_landscape.default_landscape(config, workers)
         evaluator, robot = Evaluator(task=study_landscape.study_task(config)), RobotSpec()
+        learned = learned_location(results, part["location"])
+        location = learned[["x", "y", "z"]].to_numpy(dtype=float)
         result = compare(PAPER_STARTS, landscape, evaluator, robot, seed=part["seed"],
-                         workers=workers)
+                         workers=workers, location=location)
         table = result.table
+        source = (f"{learned['agent']} {learned['target']} {learned['budget']} run "
+                  f"{int(learned['run'])}")
+        table["location_source"] = np.where(table["method"] == "optimised", source, "")
+        for axis in "xyz":
+            table[f"argmin_{axis}"] = learned[f"argmin_{axis}"]
         # Each path file played back on the committed robot URDF in a client of its own.
         paths = write_paths(result, evaluator, robot, folder / "paths")
         played = {path.stem: replay(pd.read_csv(path), ROBOT_URDF) for path in paths}
@@ -84,7 +107,7 @@ def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
         markdown = markdown_table(table)
         atomic_write(folder / "baselines.md", lambda h: h.write(markdown))
         print(markdown, end="")
-        others = other_starts(landscape, evaluator, robot, part, workers)
+        others = other_starts(landscape, evaluator, robot, part, workers, location)
         atomic_write_csv(others, folder / "other_starts.csv")
         reach = pd.concat([reachability(
             parse_boundary(name, evaluator.body, evaluator.task), evaluator, robot, step,

@@ -40,10 +40,10 @@ def test_train_on_a_landscape_writes_results_and_reports_the_minimum(bowl_file, 
     assert (out / "q_table.npz").exists()
 
 
-@pytest.mark.parametrize("agent", ["random", "hillclimb"])
+@pytest.mark.parametrize("agent", ["randomwalk", "random", "hillclimb"])
 def test_baselines_run_through_the_same_command(bowl_file, tmp_path, agent):
     out = tmp_path / agent
-    assert main(["train", "--agent", agent, "--steps", "3000", "--landscape", str(bowl_file),
+    assert main(["train", "--agent", agent, "--steps", "20000", "--landscape", str(bowl_file),
                  "--output", str(out), "--target", "5"]) == 0
     assert pd.read_csv(out / "trace.csv")["best_score"].min() == 5
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 
+import learning_tables
 import pandas as pd
 from common import RESULTS, read
 
@@ -54,20 +55,29 @@ def variants() -> list[str]:
 
 
 def learning() -> list[str]:
-    runs, truth = read("learning/runs.csv"), read("learning/truth.csv").iloc[0]
-    lines = ["## Learning: minimum score per run (global minimum "
-             f"{truth['global_min']:g}, exhaustive)", "",
-             "| agent | cap | N runs | reached the global minimum | best scores | median time "
-             "to it [s] |", "|---|---|---|---|---|---|",
-             "| Q-learning (the paper) | 120 and 300 s | 10 + 10 | 20 of 20 | 4 | not reported |"]
-    for (agent, cap), g in runs.groupby(["agent", "cap_s"], sort=False):
-        reached = g[g["reached_global_min"].astype(str) == "True"]
-        time = f"{reached['first_reached_s'].median():.3g}" if len(reached) else "–"
-        scores = ", ".join(f"{int(v)}" if v != float("inf") else "none"
-                           for v in sorted(set(g["best_score"])))
-        lines.append(f"| {agent} (ours) | {cap:g} s | {len(g)} | {len(reached)} of "
-                     f"{len(g)} | {scores} | {time} |")
-    return [*lines, ""]
+    summary, comparisons = read("learning/summary.csv"), read("learning/comparisons.csv")
+    targets, manifest = read("learning/targets.csv"), _manifest("learning")
+    steps = summary.dropna(subset=["steps"]).drop_duplicates("budget")
+    budgets = list(steps["budget"])
+    described = ", ".join(f"{b} = {int(n):,} evaluations" for b, n in
+                          zip(steps["budget"], steps["steps"], strict=True))
+    runs = int(summary["n_runs"].max())
+    lines = ["## Learning: can the learners be told apart?", "",
+             f"{manifest['runs']:,} runs, {runs} per target, agent and budget, each with a seed "
+             f"of its own; budgets {described}; no run stops at the known optimum.", "",
+             "Targets:", "", *learning_tables.targets_table(targets), "",
+             "Q-learning against the random walk and random sampling (successes of runs, 95 % "
+             "Wilson interval; two-sided Mann-Whitney on evaluations to the target, censored "
+             "runs last; Cliff's δ > 0: Q-learning sooner):", "",
+             *learning_tables.verdict_table(summary, comparisons, budgets), ""]
+    for budget in dict.fromkeys(summary["budget"]):
+        lines += [f"Every agent at {budget} (successes, median evaluations to the target):", "",
+                  *learning_tables.agents_table(summary, budget), ""]
+    if "rollouts" in summary and summary["rollouts"].notna().any():
+        lines += ["Greedy rollouts of the final policy from the same random starts (reached "
+                  "the target, 95 % Wilson interval, mean steps of those that did):", "",
+                  *learning_tables.rollouts_table(summary), ""]
+    return lines
 
 
 def baselines() -> list[str]:
@@ -93,6 +103,11 @@ def baselines() -> list[str]:
             f"{cell(s)} | {num(o, 'reba')} / {num(s, 'reba')} | {num(o, 'rula')} / "
             f"{num(s, 'rula')} | {'yes' if o['robot_feasible'] else 'no'} / "
             f"{'yes' if s['robot_feasible'] else 'no'} |")
+    o = table[table["method"] == "optimised"].iloc[0]
+    lines += ["", f"The optimised location is where the learner ended ({o['location_source']}): "
+              f"({o['x']:.3f}, {o['y']:.3f}, {o['z']:.3f}) m; the landscape's argmin, the most "
+              f"symmetric of its optima: ({o['argmin_x']:.3f}, {o['argmin_y']:.3f}, "
+              f"{o['argmin_z']:.3f}) m."]
     return [*lines, ""]
 
 
@@ -117,24 +132,10 @@ def participants() -> list[str]:
 
 
 def ablations() -> list[str]:
-    obj, temp, ik = (read(f"ablations/{n}.csv") for n in ("objectives", "temperature", "ik"))
-    lines = ["## Ablations", "", "Objective (Q-learning, fixed temperature):", "",
-             "| objective | N runs | reached its global minimum | median time to it [s] |",
-             "|---|---|---|---|"]
-    for name, g in obj.groupby("objective", sort=False):
-        ok = g[g["reached_global_min"].astype(str) == "True"]
-        lines.append(f"| {name} (min {g['global_min'].iloc[0]:g}) | {len(g)} | {len(ok)} | "
-                     f"{ok['first_reached_s'].median():.3g} |" if len(ok) else
-                     f"| {name} | {len(g)} | 0 | – |")
-    lines += ["", "Temperature (paper_postural):", "",
-              "| schedule | N runs | reached | median time to it [s] |", "|---|---|---|---|"]
-    for name, g in temp.groupby("temperature", sort=False):
-        ok = g[g["reached_global_min"].astype(str) == "True"]
-        median = f"{ok['first_reached_s'].median():.3g}" if len(ok) else "–"
-        lines.append(f"| {name} | {len(g)} | {len(ok)} | {median} |")
-    lines += ["", f"Human IK ({ik['grid'].iloc[0]}):", "",
-              "| solver | feasible | unbalanced | paper_postural min (share) | REBA min (share) "
-              "| optimum (x, y, z) [m] |", "|---|---|---|---|---|---|"]
+    ik = read("ablations/ik.csv")
+    lines = ["## Ablation: human IK", "", f"{ik['grid'].iloc[0]}:", "",
+             "| solver | feasible | unbalanced | paper_postural min (share) | REBA min (share) "
+             "| optimum (x, y, z) [m] |", "|---|---|---|---|---|---|"]
     for solver, g in ik.groupby("solver", sort=False):
         p = g[g["score"] == "paper_postural"].iloc[0]
         r = g[g["score"] == "reba"].iloc[0]

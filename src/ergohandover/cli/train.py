@@ -28,7 +28,8 @@ from .options import (
 DESCRIPTION = """\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
 paper's: alpha 0.1, gamma 0.9, Q = 0, softmax with temperature 0.7), DQN (stable-baselines3),
-uniform random search or hill-climbing with random restarts, until a wall-clock or step cap.
+a random walk (the learner's moves and restarts, no learning), uniform random search or
+hill-climbing with random restarts, until a wall-clock or step cap.
 Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
 --boundary/--step for this worker was swept before (`ergohandover sweep`), else they are computed
 online (memoised). Writes trace.csv (time_s, step, best score and

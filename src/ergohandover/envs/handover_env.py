@@ -177,6 +177,15 @@ class HandoverEnv(gym.Env):
             return self.infeasible_reward
         return 1.0 / (score * score) + self._symmetry[cell // self._stride_x]
 
+    def rewards_of(self, scores: np.ndarray) -> np.ndarray:
+        """:meth:`reward_of` for every cell at once: ``scores`` (grid.size,) in flat order,
+        ``inf`` where infeasible; the same floats as the per-cell method."""
+        scores = np.asarray(scores, dtype=np.float64)
+        symmetry = np.repeat(np.asarray(self._symmetry), self._stride_x)
+        with np.errstate(divide="ignore"):
+            rewards = 1.0 / (scores * scores) + symmetry
+        return np.where(np.isinf(scores), self.infeasible_reward, rewards)
+
     # -- Gymnasium API ------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
@@ -219,6 +228,10 @@ class HandoverEnv(gym.Env):
         """The box centre of a flat cell, worker frame [m]."""
         i, j, k = self.indices(cell)
         return self._axes[0][i], self._axes[1][j], self._axes[2][k]
+
+    def observe(self, cell: int) -> np.ndarray:
+        """The observation at a flat cell (what :meth:`step` returns on arriving there)."""
+        return self._observe(cell, self._score(cell))
 
     def _observe(self, cell: int, score: float) -> np.ndarray:
         i, j, k = self.indices(cell)

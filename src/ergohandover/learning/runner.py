@@ -7,9 +7,9 @@ from ..envs.handover_env import EPISODE_STEPS
 from ..errors import ConfigError
 from .trace import Budget, Progress, RunResult
 
-AGENTS = ("qlearning", "dqn", "random", "hillclimb")
-"""Tabular Q-learning (the paper's), DQN (stable-baselines3), uniform random search and
-hill-climbing with random restarts."""
+AGENTS = ("qlearning", "dqn", "randomwalk", "random", "hillclimb")
+"""Tabular Q-learning (the paper's), DQN (stable-baselines3), a random walk with the learner's
+moves and restarts, uniform random search and hill-climbing with random restarts."""
 TEMPERATURES = ("fixed", "adaptive")
 
 
@@ -41,6 +41,10 @@ def run_agent(agent: str, env, budget: Budget, seed: int, temperature: str = "fi
 
         config = DQNConfig(episode_steps=episode_steps)
         return run_dqn(env, budget, seed, config, progress), config
+    if agent == "randomwalk":
+        from .search import run_randomwalk
+
+        return run_randomwalk(env, budget, seed, episode_steps, progress), None
     if agent in ("random", "hillclimb"):
         from .search import run_hillclimb, run_random
 

@@ -1,5 +1,6 @@
-"""Search baselines on the learners' budget: uniform random search, greedy hill-climbing with
-random restarts, and exhaustive search (the landscape's minimum: the ground truth)."""
+"""Search baselines on the learners' budget: a random walk (the learner's moves and restarts
+without the learning), uniform random search, greedy hill-climbing with random restarts, and
+exhaustive search (the landscape's minimum: the ground truth)."""
 
 from __future__ import annotations
 
@@ -8,11 +9,60 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..envs.handover_env import HandoverEnv
+from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..landscape.cache import Landscape
 from ..landscape.stats import optimum
 from .qlearning import seeds_of
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+
+
+def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_STEPS,
+                  progress: Progress | None = None) -> RunResult:
+    """Walk the grid with uniformly random actions: Q-learning's moves, episode ends and random
+    restarts, without the learning (what the tabular learner does while its Q-table is flat).
+
+    Args:
+        env: a :class:`HandoverEnv` (possibly wrapped; its transition is used directly).
+        budget: time and/or step cap (one step = one transition, as for the learners).
+        seed: the run's seed (the env's starts and the agent's actions, as Q-learning's).
+        episode_steps: steps after which an episode is cut and restarted at a random cell.
+        progress: called every :data:`BLOCK` steps.
+    """
+    base: HandoverEnv = env.unwrapped
+    env_seed, rng = seeds_of(seed)
+    env.reset(seed=env_seed)
+    transition, score_of = base.transition, base.scores.score
+    cell = base.cell
+    best = BestSoFar(base.location)
+    best.offer(0, score_of(cell), cell)
+    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    step_limit, time_limit = budget.step_limit, budget.time_limit
+    steps, best_score, in_episode, episodes = 0, best.best, 0, 1
+    done = best_score <= stop_score
+    while not done and steps < step_limit and best.elapsed() < time_limit:
+        for a in rng.integers(6, size=int(min(BLOCK, step_limit - steps))).tolist():
+            cell, s, _, terminated = transition(cell, a)
+            steps += 1
+            in_episode += 1
+            if s <= best_score:
+                best.offer(steps, s, cell)
+                best_score = s
+                if s <= stop_score:
+                    done = True
+                    break
+            if terminated or in_episode >= episode_steps:
+                env.reset()
+                cell, in_episode, episodes = base.cell, 0, episodes + 1
+                s = score_of(cell)
+                if s <= best_score:
+                    best.offer(steps, s, cell)
+                    best_score = s
+                    if s <= stop_score:
+                        done = True
+                        break
+        if progress:
+            progress(steps, best.elapsed())
+    return finish("randomwalk", best, steps, budget, {"episodes": episodes})
 
 
 def run_random(env, budget: Budget, seed: int, progress: Progress | None = None) -> RunResult:

@@ -98,7 +98,8 @@ class Comparison(NamedTuple):
 def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | None = None,
             robot: RobotSpec | None = None, score: str = "paper_postural", seed: int = 0,
             workers: int = 1, budget: int = DEFAULT_BUDGET,
-            methods: tuple[str, ...] = METHODS) -> Comparison:
+            methods: tuple[str, ...] = METHODS,
+            location: np.ndarray | None = None) -> Comparison:
     """Both handover locations for every start: the twin's scores there and the robot's
     planned carry of the box there (:mod:`..scene.planner`).
 
@@ -112,6 +113,8 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
         workers: processes planning carries at a time.
         budget: robot poses checked per grasp before a carry is ``no_path``.
         methods: which of :data:`METHODS` to compare.
+        location: the optimised location (x, y, z) [m], e.g. where a learner's run ended
+            (default: the landscape's optimum, its most symmetric argmin).
 
     Returns:
         Columns: ``start_x, start_y, start_z, method, x, y, z, distance_m`` (start to
@@ -126,7 +129,7 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
     """
     evaluator = evaluator or Evaluator()
     starts = np.asarray(starts, dtype=float).reshape(-1, 3)
-    best = optimised(landscape, score)
+    best = optimised(landscape, score) if location is None else np.asarray(location, float)
     rows = [(start, method, best if method == "optimised"
              else shortest_distance(start, landscape.grid.boundary))
             for start in starts for method in methods]

@@ -24,11 +24,20 @@ def config_hash(config: dict[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+READS = {"baselines": ("learning",)}
+"""Parts that read another part's results besides the landscape's: the baselines carry the box
+to the location the learner found."""
+
+
 def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
     """What a part's results depend on: its own section of the study configuration and, for
-    every part after it, the landscape's (they all read the landscape)."""
+    every part after it, the landscape's (they all read the landscape) and those of the parts
+    whose results it reads (:data:`READS`)."""
     own = dict(config[part])
-    return own if part == "landscape" else {**own, "landscape": config["landscape"]}
+    if part == "landscape":
+        return own
+    return {**own, "landscape": config["landscape"],
+            **{name: config[name] for name in READS.get(part, ())}}
 
 
 def is_done(folder: Path, config: dict[str, Any]) -> bool:

@@ -1,0 +1,165 @@
+"""The learning study's tables in Markdown, from results/learning/ only: each target, the
+verdicts (does a learner beat the random walk and random sampling at the paper-matched
+budgets?), every agent's success rate, and the greedy rollouts. make_tables.py puts them into
+results/tables.md; the README carries the verdicts and a test keeps the two equal."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+
+AGENT_NAMES = {"qlearning": "Q-learning (τ 0.7)", "qlearning-adaptive": "Q-learning (adaptive τ)",
+               "dqn": "DQN", "randomwalk": "random walk", "random": "random sampling",
+               "hillclimb": "hill-climbing"}
+
+
+def rate(successes: int, n: int, low: float, high: float) -> str:
+    """``7/10 (0.40–0.89)``: successes of n with the 95 % Wilson interval."""
+    return f"{int(successes)}/{int(n)} ({low:.2f}–{high:.2f})"
+
+
+def evaluations(value: float) -> str:
+    """A median of evaluations, or ``>budget`` when more than half the runs never got there."""
+    return "> budget" if not math.isfinite(value) else f"{value:,.0f}"
+
+
+def targets_table(targets: pd.DataFrame) -> list[str]:
+    lines = ["| target | objective (goal) | worker, gaze | grid | optimum | target cells "
+             "(share of grid) |", "|---|---|---|---|---|---|"]
+    for t in targets.itertuples():
+        lines.append(f"| {t.target} | {t.objective} ({t.goal}) | {t.worker}, gaze {t.gaze} | "
+                     f"{t.grid_cells:,} cells every {grid_step(t.grid)} | {t.score:g} | "
+                     f"{t.cells:,} ({t.fraction:.4%}) |")
+    return lines
+
+
+def grid_step(text: str) -> str:
+    """``20 mm in 'paper-code'`` from a grid's description."""
+    return text.split("every ")[1].replace("in boundary ", "in ")
+
+
+def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str],
+                  learner: str = "qlearning") -> list[str]:
+    """Per target and paper-matched budget: the learner's, the random walk's and random
+    sampling's success with intervals, and the learner against each (two-sided Mann-Whitney on
+    evaluations to the target with censored runs last; Cliff's δ > 0: the learner sooner)."""
+    cells = summary.set_index(["target", "agent", "budget"])
+    lines = [f"| target | budget | {AGENT_NAMES[learner]} | random walk | random sampling | "
+             f"{AGENT_NAMES[learner]} vs random walk | vs random sampling |",
+             "|---|---|---|---|---|---|---|"]
+    for (target, budget), group in comparisons[(comparisons["agent"] == learner)
+                                              & comparisons["budget"].isin(budgets)].groupby(
+            ["target", "budget"], sort=False):
+        shown = [rate(*cells.loc[(target, a, budget), ["successes", "n_runs", "ci_low",
+                                                       "ci_high"]])
+                 for a in (learner, "randomwalk", "random")]
+        tests = []
+        for reference in ("randomwalk", "random"):
+            row = group[group["versus"] == reference].iloc[0]
+            tests.append(f"{row['verdict']} (p = {row['p_mannwhitney']:.2g}, "
+                         f"δ = {row['cliffs_delta']:+.2f})")
+        lines.append(f"| {target} | {budget} | {' | '.join(shown)} | {' | '.join(tests)} |")
+    return lines
+
+
+def agents_table(summary: pd.DataFrame, budget: str) -> list[str]:
+    """Every agent's success (with interval) and median evaluations to the target, per target,
+    at one budget."""
+    agents = [a for a in AGENT_NAMES if a in set(summary["agent"])]
+    lines = ["| target | " + " | ".join(AGENT_NAMES[a] for a in agents) + " |",
+             "|---|" + "---|" * len(agents)]
+    at = summary[summary["budget"] == budget].set_index(["target", "agent"])
+    for target in dict.fromkeys(summary["target"]):
+        row = []
+        for a in agents:
+            if (target, a) not in at.index:
+                row.append("–")
+                continue
+            r = at.loc[(target, a)]
+            row.append(f"{int(r['successes'])}/{int(r['n_runs'])}, "
+                       f"{evaluations(r['median_evals_to_target'])}")
+        lines.append(f"| {target} | {' | '.join(row)} |")
+    return lines
+
+
+def rollouts_table(summary: pd.DataFrame) -> list[str]:
+    """Greedy rollouts of each learner's final policy beside the random walk from the same
+    starts: walks that reached the target within the grid's Manhattan diameter."""
+    walks = summary.dropna(subset=["rollouts"])
+    agents = [a for a in ("qlearning", "qlearning-adaptive", "dqn", "randomwalk")
+              if a in set(walks["agent"])]
+    lines = ["| target | steps allowed | " + " | ".join(AGENT_NAMES[a] for a in agents) + " |",
+             "|---|---|" + "---|" * len(agents)]
+    at = walks.set_index(["target", "agent"])
+    for target in dict.fromkeys(walks["target"]):
+        row = []
+        for a in agents:
+            if (target, a) not in at.index:
+                row.append("–")
+                continue
+            r = at.loc[(target, a)]
+            steps = "" if not math.isfinite(r["rollout_mean_steps"]) else \
+                f", {r['rollout_mean_steps']:.0f} steps"
+            row.append(f"{int(r['rollout_reached'])}/{int(r['rollouts'])} "
+                       f"({r['rollout_ci_low']:.2f}–{r['rollout_ci_high']:.2f}){steps}")
+        limit = int(at.loc[(target, agents[0]), "rollout_limit"])
+        lines.append(f"| {target} | {limit} | {' | '.join(row)} |")
+    return lines
+
+
+BLOCKS = ("learning-claim", "learning-targets", "learning-verdicts", "learning-rollouts")
+"""The README's generated blocks, each between ``<!-- name -->`` and ``<!-- /name -->``."""
+
+
+def blocks(results) -> dict[str, str]:
+    """Each README block's text, from ``results``/learning/ only."""
+    folder = results / "learning"
+    read = lambda name: pd.read_csv(folder / name, keep_default_na=False,  # noqa: E731
+                                    na_values=[""])
+    summary, comparisons, targets = (read(n) for n in ("summary.csv", "comparisons.csv",
+                                                       "targets.csv"))
+    budgets = list(dict.fromkeys(summary.dropna(subset=["steps"])["budget"]))
+    table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
+    return {"learning-claim": claim(summary, budgets),
+            "learning-targets": table(targets_table(targets)),
+            "learning-verdicts": table(verdict_table(summary, comparisons, budgets)),
+            "learning-rollouts": table(rollouts_table(summary))}
+
+
+def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> str:
+    """The README's answer to the paper's claim that every run reaches the minimum."""
+    at = summary[summary["target"] == target].set_index(["agent", "budget"])
+    counts = {a: " and ".join(f"{int(at.loc[(a, b), 'successes'])}/"
+                              f"{int(at.loc[(a, b), 'n_runs'])}" for b in budgets)
+              for a in ("qlearning", "randomwalk", "random")}
+    steps = " and ".join(f"{int(at.loc[('qlearning', b), 'steps']):,}" for b in budgets)
+    score = at["target_score"].iloc[0]
+    return (f"at budgets matched to the paper's caps ({steps} evaluations) Q-learning reaches "
+            f"the minimum ({score:g}) in {counts['qlearning']} runs, a random walk in "
+            f"{counts['randomwalk']}, random sampling in {counts['random']}; rarer targets "
+            "tell them apart: the learning study")
+
+
+def readme_block(readme: str, name: str) -> str:
+    """The text of block ``name`` in the README (between its markers)."""
+    return readme.split(f"<!-- {name} -->")[1].split(f"<!-- /{name} -->")[0]
+
+
+def main() -> None:
+    """Rewrite the README's learning blocks from results/ (run after the study)."""
+    from common import RESULTS, ROOT
+
+    from ergohandover.io.atomic import atomic_write
+
+    path = ROOT / "README.md"
+    text = path.read_text()
+    for name, block in blocks(RESULTS).items():
+        text = text.replace(f"<!-- {name} -->{readme_block(text, name)}<!-- /{name} -->",
+                            f"<!-- {name} -->{block}<!-- /{name} -->")
+    atomic_write(path, lambda h: h.write(text))
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
