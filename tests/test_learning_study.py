@@ -126,6 +126,7 @@ def test_wilson_intervals_are_the_textbook_values():
     assert wilson(5, 10) == pytest.approx((0.2366, 0.7634), abs=1e-4)
     assert wilson(0, 10) == pytest.approx((0.0, 0.2775), abs=1e-4)
     assert wilson(10, 10) == pytest.approx((0.7225, 1.0), abs=1e-4)
+    assert wilson(0, 200)[0] == 0.0 and wilson(200, 200)[1] == 1.0  # exactly
 
 
 def test_censored_runs_rank_last_and_are_never_dropped():

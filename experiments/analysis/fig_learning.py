@@ -140,7 +140,8 @@ def rollouts(summary: pd.DataFrame) -> None:
         rows = walks[walks["agent"] == agent].set_index("target").reindex(target_names)
         x = np.arange(len(target_names)) - 0.4 + width * (i + 0.5)
         rate = rows["rollout_rate"].to_numpy()
-        err = np.vstack([rate - rows["rollout_ci_low"], rows["rollout_ci_high"] - rate])
+        err = np.clip(np.vstack([rate - rows["rollout_ci_low"],
+                                 rows["rollout_ci_high"] - rate]), 0, None)
         ax.bar(x, rate, width, color=COLOURS[agent], label=AGENT_NAMES[agent],
                yerr=np.nan_to_num(err), capsize=2, error_kw={"lw": 0.8})
     ax.set_xticks(range(len(target_names)), target_names, fontsize=8, rotation=20)
