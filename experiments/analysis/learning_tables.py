@@ -108,7 +108,8 @@ def rollouts_table(summary: pd.DataFrame) -> list[str]:
     return lines
 
 
-BLOCKS = ("learning-claim", "learning-targets", "learning-verdicts", "learning-rollouts")
+BLOCKS = ("learning-claim", "learning-targets", "learning-tally", "learning-verdicts",
+          "learning-rollouts")
 """The README's generated blocks, each between ``<!-- name -->`` and ``<!-- /name -->``."""
 
 
@@ -123,6 +124,7 @@ def blocks(results) -> dict[str, str]:
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"learning-claim": claim(summary, budgets),
             "learning-targets": table(targets_table(targets)),
+            "learning-tally": table(tally(comparisons, budgets)),
             "learning-verdicts": table(verdict_table(summary, comparisons, budgets)),
             "learning-rollouts": table(rollouts_table(summary))}
 
@@ -139,6 +141,26 @@ def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> s
             f"the minimum ({score:g}) in {counts['qlearning']} runs, a random walk in "
             f"{counts['randomwalk']}, random sampling in {counts['random']}; rarer targets "
             "tell them apart: the learning study")
+
+
+def tally(comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
+    """How often each learner is better, no different or worse than each reference agent,
+    over every target at the paper-matched budgets (two-sided, p < 0.05)."""
+    at = comparisons[comparisons["budget"].isin(budgets)]
+    lines = []
+    for agent, group in at.groupby("agent", sort=False):
+        parts = []
+        for reference, g in group.groupby("versus", sort=False):
+            counts = g["verdict"].value_counts()
+            parts.append(f"against {AGENT_NAMES[reference]} better in "
+                         f"{counts.get('better', 0)}, no different in "
+                         f"{counts.get('no difference', 0)}, worse in "
+                         f"{counts.get('worse', 0)}")
+        pairs = group[["target", "budget"]].drop_duplicates()
+        lines.append(f"- {AGENT_NAMES[agent]}, {len(pairs)} comparisons "
+                     f"({pairs['target'].nunique()} targets × {pairs['budget'].nunique()} "
+                     "budgets): " + "; ".join(parts) + ".")
+    return lines
 
 
 def readme_block(readme: str, name: str) -> str:
