@@ -1,6 +1,7 @@
 """Compare two results folders (e.g. the committed results/ and a rerun): every score,
 location, count and step must be equal; wall-time columns may differ, and their spread is
-printed.
+printed. Learning runs under a wall-clock cap are left out (how far a run gets in 2 s depends on
+the machine's load); every step-budgeted run must repeat exactly.
 
 Usage: python experiments/analysis/compare_runs.py RESULTS_A RESULTS_B
 Exit code 1 if anything but a wall time differs.
@@ -14,16 +15,25 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "learning/runs.csv",
-          "learning/truth.csv", "baselines/baselines.csv", "ablations/runs.csv",
-          "ablations/ik.csv", "participants/participants.csv")
-TIME_COLUMNS = {"first_reached_s", "elapsed_s"}
+TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "learning/targets.csv",
+          "learning/runs.csv", "learning/found.csv", "baselines/baselines.csv",
+          "baselines/other_starts.csv", "ablations/ik.csv", "participants/participants.csv")
+TIME_COLUMNS = {"elapsed_s", "steps_per_s", "planning_s"}
+
+
+def read(folder: Path, name: str) -> pd.DataFrame:
+    table = pd.read_csv(folder / name)
+    if name == "learning/runs.csv":  # wall-clock-capped runs depend on the machine's load
+        table = table[table["steps"].notna()].reset_index(drop=True)
+    if name == "learning/found.csv":  # the study names wall-clock budgets wall-<cap>s
+        table = table[~table["budget"].str.startswith("wall-")].reset_index(drop=True)
+    return table
 
 
 def compare(a: Path, b: Path) -> bool:
     same = True
     for name in TABLES:
-        x, y = pd.read_csv(a / name), pd.read_csv(b / name)
+        x, y = read(a, name), read(b, name)
         exact = [c for c in x.columns if c not in TIME_COLUMNS]
         if not x[exact].equals(y[exact]):
             diff = [c for c in exact if not x[c].equals(y[c])]

@@ -23,8 +23,8 @@ LEXICOGRAPHIC_ORDER = (("paper_postural", 1.0), ("reba_ab", 1e-2), ("rula", 1e-4
                        ("trunk_flexion", 1e-6))
 """A landscape-only objective that ranks cells by the paper's score, then ``reba_ab``, then RULA,
 then the most upright trunk (|trunk flexion| in whole degrees): their weighted sum. Each term is
-an integer below 100 (``reba_ab`` at most 24, RULA 7, the trunk's degrees under 90 where the
-twin stands), so a weight 100 times smaller than the one before never outweighs a difference of
+an integer below 100 (``reba_ab`` at most 24, RULA 7, the trunk's degrees capped at 99; the
+default worker's stay under 40), so a weight 100 times smaller than the one before never outweighs a difference of
 one in an earlier term. With the env's symmetry term as the last tie-break its best cells are a
 tiny share of the grid: a target on which a search budget binds."""
 SCORE_MAX = {"paper_postural": 14, "reba": 15, "reba_ab": 24, "rula": 7,
@@ -54,7 +54,7 @@ def objective_values(landscape: Landscape, objective: str) -> np.ndarray:
             raise LandscapeError(f"the landscape has no '{name}' column")
         values = landscape.arrays[name].astype(np.float64)
         if name == "trunk_flexion":  # uprightness in whole degrees: an integer, like the scores
-            values = np.rint(np.abs(values))
+            values = np.minimum(np.rint(np.abs(values)), 99)  # never a whole step of RULA's
         total += weight * values
     return np.where(landscape.feasible, total, np.inf)
 
