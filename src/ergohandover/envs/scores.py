@@ -24,9 +24,9 @@ LEXICOGRAPHIC_ORDER = (("paper_postural", 1.0), ("reba_ab", 1e-2), ("rula", 1e-4
 """A landscape-only objective that ranks cells by the paper's score, then ``reba_ab``, then RULA,
 then the most upright trunk (|trunk flexion| in whole degrees): their weighted sum. Each term is
 an integer below 100 (``reba_ab`` at most 24, RULA 7, the trunk's degrees capped at 99; the
-default worker's stay under 40), so a weight 100 times smaller than the one before never outweighs a difference of
-one in an earlier term. With the env's symmetry term as the last tie-break its best cells are a
-tiny share of the grid: a target on which a search budget binds."""
+default worker's stay under 40), so a weight 100 times smaller than the one before never
+outweighs a difference of one in an earlier term. With the env's symmetry term as the last
+tie-break its best cells are a tiny share of the grid: a target on which a search budget binds."""
 SCORE_MAX = {"paper_postural": 14, "reba": 15, "reba_ab": 24, "rula": 7,
              LEXICOGRAPHIC: 14 + 24e-2 + 7e-4 + 99e-6}
 """The largest value each objective can take (to normalise observations): the paper's score
