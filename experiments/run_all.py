@@ -8,12 +8,15 @@ Parts, in order (each resumable: a finished part is reused from its manifest.jso
   baselines     the shortest-distance vs the learner's location from the paper's five starts
   ablations     human IK (ours vs PyBullet's)
   participants  the VR participant study, simulated with six workers of different sizes
+  population    one-size vs personalised handover locations over a sampled workforce, swept
+                on the local process pool or on Ray (--engine ray [--address auto|HOST:PORT])
   sensitivity   which modelling choices move the optimum: a landscape per variant
   validation    the twin beside published human data (angles, working heights, lifts)
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
---quick runs every part on coarse grids and second-long caps (a few minutes) into
-results/quick/ and paper_figs/quick/; it is what the smoke test runs.
+--only PART runs one part (repeatable) and redraws its figures; the figures part draws every
+figure and writes results/tables.md. --quick runs every part on coarse grids and second-long
+caps (a few minutes) into results/quick/ and paper_figs/quick/; it is what the smoke test runs.
 """
 
 from __future__ import annotations
@@ -29,19 +32,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent
-PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "sensitivity",
-         "validation", "figures")
+PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "population",
+         "sensitivity", "validation", "figures")
+ENGINE_PARTS = ("population",)  # the parts that run on --engine (the others: the local pool)
 # Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
 # at the start; parts already finished are not counted. The learning part estimates itself
 # from its configuration (study_learning.estimate_s).
 ESTIMATE_S = {"default": {"landscape": 150, "learning": 140, "baselines": 270,
-                          "ablations": 65, "participants": 85, "sensitivity": 95,
-                          "validation": 5, "figures": 15},
+                          "ablations": 65, "participants": 85, "population": 180,
+                          "sensitivity": 95, "validation": 5, "figures": 20},
               "quick": {"landscape": 5, "learning": 10, "baselines": 85, "ablations": 15,
-                        "participants": 10, "sensitivity": 60, "validation": 5,
-                        "figures": 15}}
-FIGURE_SCRIPTS = ("fig_score_distribution", "fig_learning", "fig_baselines",
-                  "fig_participants", "fig_sensitivity", "fig_validation", "make_tables")
+                        "participants": 10, "population": 20, "sensitivity": 60,
+                        "validation": 5, "figures": 20}}
+PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
+                "baselines": "fig_baselines", "participants": "fig_participants",
+                "population": "fig_population", "sensitivity": "fig_sensitivity",
+                "validation": "fig_validation"}
+"""Each part's figure script (each reads that part's results only)."""
+FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:
@@ -55,6 +63,11 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                         help="processes (default: all cores)")
     parser.add_argument("--force", action="store_true", help="rerun parts even if finished")
+    parser.add_argument("--engine", choices=("local", "ray"), default="local",
+                        help="where the population part sweeps its workers' landscapes: the "
+                        "local process pool (default) or Ray")
+    parser.add_argument("--address", help="with --engine ray: a running Ray cluster, auto or "
+                        "HOST:PORT (default: start a local Ray instance of --workers CPUs)")
     parser.add_argument("--config", type=Path, help="a config JSON (default: "
                         "experiments/configs/default.json, or quick.json with --quick)")
     parser.add_argument("--results", type=Path, help="results folder (default: results/, or "
@@ -64,6 +77,8 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     args = parser.parse_args(argv)
     if args.workers < 1:
         parser.error(f"--workers {args.workers}: must be at least 1")
+    if args.address is not None and args.engine != "ray":
+        parser.error(f"--address {args.address}: needs --engine ray")
     return args
 
 
@@ -87,6 +102,20 @@ def main(argv: list[str] | None = None) -> int:
     print(f"run_all ({mode}, config {config_path.name}, {args.workers} workers): parts "
           f"{', '.join(parts)}; {plan}")
     start = time.perf_counter()
+    from ergohandover.errors import ErgohandoverError
+
+    try:
+        run_parts(parts, config, results, figures, args)
+    except ErgohandoverError as exc:  # a bad value: one line, exit code 2, no traceback
+        print(f"run_all: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"run_all done in {(time.perf_counter() - start) / 60:.1f} min "
+          f"(estimated {estimate / 60:.0f} min)")
+    return 0
+
+
+def run_parts(parts: list[str], config: dict, results: Path, figures: Path,
+              args: argparse.Namespace) -> None:
     for part in parts:
         t0 = time.perf_counter()
         print(f"== {part}")
@@ -94,11 +123,12 @@ def main(argv: list[str] | None = None) -> int:
             build_figures(results, figures)
         else:
             module = importlib.import_module(f"study_{part}")
-            module.run(config, results, args.workers, force=args.force)
+            engine = ({"engine": args.engine, "address": args.address}
+                      if part in ENGINE_PARTS else {})
+            module.run(config, results, args.workers, force=args.force, **engine)
+            if "figures" not in parts and part in PART_FIGURES:  # --only PART: its figures
+                build_figures(results, figures, (PART_FIGURES[part],))
         print(f"   {part}: {time.perf_counter() - t0:.0f} s")
-    print(f"run_all done in {(time.perf_counter() - start) / 60:.1f} min "
-          f"(estimated {estimate / 60:.0f} min)")
-    return 0
 
 
 def part_estimate(part: str, mode: str, config: dict, workers: int) -> float:
@@ -110,11 +140,12 @@ def part_estimate(part: str, mode: str, config: dict, workers: int) -> float:
     return ESTIMATE_S[mode][part]
 
 
-def build_figures(results: Path, figures: Path) -> None:
-    """Run every analysis script (each reads results/ only) against these folders."""
+def build_figures(results: Path, figures: Path, scripts: tuple[str, ...] = FIGURE_SCRIPTS) -> None:
+    """Run analysis scripts (each reads results/ only; default: every one) against these
+    folders."""
     env = {**os.environ, "ERGOHANDOVER_RESULTS": str(results),
            "ERGOHANDOVER_FIGURES": str(figures)}
-    for script in FIGURE_SCRIPTS:
+    for script in scripts:
         subprocess.run([sys.executable, str(HERE / "analysis" / f"{script}.py")], env=env,
                        check=True)
 

@@ -33,16 +33,19 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
                "--results", str(results), "--figures", str(figures)]
     first = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert first.returncode == 0, first.stderr[-2000:]
-    for part in ("landscape", "learning", "baselines", "ablations", "participants"):
+    for part in ("landscape", "learning", "baselines", "ablations", "participants",
+                 "population"):
         manifest = json.loads((results / part / "manifest.json").read_text())
         assert manifest["part_hash"] and manifest["versions"]["numpy"]
     assert {p.name for p in figures.glob("*.png")} >= {
         "score_distribution.png", "learning_min_score.png", "learning_best_so_far.png",
         "learning_evaluations.png", "learning_success.png", "learning_rollouts.png",
-        "baselines_boxplot.png", "participants.png"}
+        "baselines_boxplot.png", "participants.png", "population_penalties.png",
+        "population_optima.png"}
     tables = (results / "tables.md").read_text()
     for heading in ("exhaustive landscape", "Learning", "Optimised vs shortest",
-                    "Simulated participants", "Ablation: human IK"):
+                    "Simulated participants", "Population: one-size vs personalised",
+                    "Ablation: human IK"):
         assert heading in tables
     runs = pd.read_csv(results / "learning" / "runs.csv")
     assert set(runs["agent"]) == {"qlearning", "qlearning-adaptive", "dqn", "randomwalk",
@@ -53,7 +56,8 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
     # A second run reuses every finished part.
     second = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert second.returncode == 0
-    for part in ("landscape", "learning", "baselines", "ablations", "participants"):
+    for part in ("landscape", "learning", "baselines", "ablations", "participants",
+                 "population"):
         assert f"[{part}] reusing finished results" in second.stdout
     # An empty cache (a fresh clone): a part that needs the landscape sweeps it again and
     # gets the same numbers.

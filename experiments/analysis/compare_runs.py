@@ -3,7 +3,8 @@ location, count and step must be equal; wall-time columns may differ, and their 
 printed. Learning runs under a wall-clock cap are left out (how far a run gets in 2 s depends on
 the machine's load); every step-budgeted run must repeat exactly.
 
-Usage: python experiments/analysis/compare_runs.py RESULTS_A RESULTS_B
+Usage: python experiments/analysis/compare_runs.py RESULTS_A RESULTS_B [PART ...]
+(PART: compare only these parts' tables, e.g. population after a run with --engine ray.)
 Exit code 1 if anything but a wall time differs.
 """
 
@@ -17,7 +18,9 @@ import pandas as pd
 
 TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "learning/targets.csv",
           "learning/runs.csv", "learning/found.csv", "baselines/baselines.csv",
-          "baselines/other_starts.csv", "ablations/ik.csv", "participants/participants.csv")
+          "baselines/other_starts.csv", "ablations/ik.csv", "participants/participants.csv",
+          *(f"population/{n}.csv" for n in ("workers", "penalties", "one_size", "groups",
+                                            "height_fit", "working_heights")))
 TIME_COLUMNS = {"elapsed_s", "steps_per_s", "planning_s"}
 
 
@@ -30,9 +33,11 @@ def read(folder: Path, name: str) -> pd.DataFrame:
     return table
 
 
-def compare(a: Path, b: Path) -> bool:
+def compare(a: Path, b: Path, parts: list[str] | None = None) -> bool:
     same = True
     for name in TABLES:
+        if parts and name.split("/")[0] not in parts:
+            continue
         x, y = read(a, name), read(b, name)
         exact = [c for c in x.columns if c not in TIME_COLUMNS]
         if not x[exact].equals(y[exact]):
@@ -53,4 +58,4 @@ def compare(a: Path, b: Path) -> bool:
 
 
 if __name__ == "__main__":
-    sys.exit(0 if compare(Path(sys.argv[1]), Path(sys.argv[2])) else 1)
+    sys.exit(0 if compare(Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3:]) else 1)

@@ -1,6 +1,7 @@
 """results/tables.md: the paper's numbers beside ours, every table built from results/ only.
 
-Reads results/{landscape,learning,baselines,ablations,participants}/ CSVs and manifests."""
+Reads results/{landscape,learning,baselines,ablations,participants,population}/ CSVs and
+manifests."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import json
 
 import learning_tables
 import pandas as pd
+import population_tables
 from common import RESULTS, read
 
 from ergohandover.io.atomic import atomic_write
@@ -181,7 +183,8 @@ def validation() -> list[str]:
 def main() -> None:
     text = "\n".join(["# Tables: the paper beside this reproduction", "",
                       "Built by experiments/analysis/make_tables.py from results/ only.", "",
-                      *landscape(), *learning(), *baselines(), *participants(), *ablations(),
+                      *landscape(), *learning(), *baselines(), *participants(),
+                      *population_tables.section(RESULTS), *ablations(),
                       *sensitivity(), *validation()])
     path = atomic_write(RESULTS / "tables.md", lambda h: h.write(text))
     print(f"wrote {path}")

@@ -1,6 +1,8 @@
-"""Where batched work runs: in this process, or chunk by chunk over a pool of worker processes.
+"""Where batched work runs: in this process or chunk by chunk over a pool of worker processes,
+behind one interface (:class:`Executor`) that Ray implements too
+(:mod:`~ergohandover.study.engines`, where an engine is chosen by name).
 
-The one place that holds a worker pool. :func:`~ergohandover.twin.evaluate.evaluate_arrays`
+The one place that holds a local worker pool. :func:`~ergohandover.twin.evaluate.evaluate_arrays`
 (and through it the sweep, the baselines, the participants, the environment's online scores
 and the CLI) and the study's agent runs hand it a picklable function and a list of jobs, and
 get the results back in job order.
@@ -14,10 +16,11 @@ process is pinned the same way, so that results never depend on the number of wo
 
 from __future__ import annotations
 
+import functools
 import multiprocessing
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import ExitStack
-from typing import Any
+from typing import Any, Protocol
 
 from threadpoolctl import threadpool_limits
 
@@ -27,6 +30,29 @@ from .errors import ConfigError
 def pin_threads() -> None:
     """Limit BLAS and OpenMP in this process to one thread (a worker's initialiser)."""
     threadpool_limits(limits=1)
+
+
+class Executor(Protocol):
+    """Runs ``func(job)`` for a list of jobs somewhere, as a context manager that holds its
+    workers between calls."""
+
+    def __enter__(self) -> Executor: ...
+
+    def __exit__(self, *exc) -> None: ...
+
+    def map(self, func: Callable[[Any], Any], jobs: Iterable[Any]) -> Iterator[Any]:
+        """``func(job)`` for every job, yielded in job order."""
+        ...
+
+    def map_unordered(self, func: Callable[[Any], Any],
+                      jobs: Iterable[Any]) -> Iterator[tuple[int, Any]]:
+        """``(index, func(jobs[index]))`` for every job, as each finishes."""
+        ...
+
+
+def _indexed(func: Callable[[Any], Any], item: tuple[int, Any]) -> tuple[int, Any]:
+    index, job = item
+    return index, func(job)
 
 
 def check_workers(workers: int) -> int:
@@ -81,3 +107,18 @@ class LocalExecutor:
             yield from map(func, jobs)
         else:
             yield from self._pool.imap(func, jobs)
+
+    def map_unordered(self, func: Callable[[Any], Any],
+                      jobs: Iterable[Any]) -> Iterator[tuple[int, Any]]:
+        """``(index, func(jobs[index]))`` for every job, as each finishes (one job at a time
+        per worker, so a long job list streams out evenly)."""
+        jobs = list(jobs)
+        if self._stack is None:
+            with self:
+                yield from self.map_unordered(func, jobs)
+            return
+        if self._pool is None or (len(jobs) < 2 and not self.isolated):
+            yield from ((i, func(job)) for i, job in enumerate(jobs))
+        else:
+            yield from self._pool.imap_unordered(functools.partial(_indexed, func),
+                                                 enumerate(jobs))

@@ -33,7 +33,7 @@ ANGLES = ("trunk_flexion", "trunk_side_bend", "trunk_twist", "neck_flexion",
 PART = 65_536  # points per checkpointed part (a few seconds on two cores)
 
 
-def _compact(rows: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def compact(rows: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The landscape's columns of evaluated rows: int8 scores (-1 infeasible), float32 angles."""
     flags = rows["flags"]
     out = {"flags": flags}
@@ -120,7 +120,7 @@ def sweep(grid: Grid, evaluator: Evaluator | None = None, workers: int = 1,
                 if sum(len(r["flags"]) for r in arrived[i]) < b - a:
                     continue
                 chunks = arrived.pop(i)
-                part = _compact({c: np.concatenate([r[c] for r in chunks]) for c in columns})
+                part = compact({c: np.concatenate([r[c] for r in chunks]) for c in columns})
                 _save_part(parts_dir / f"part_{i:05d}.npz", part)
                 done[i] = part
                 computed += b - a

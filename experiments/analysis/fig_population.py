@@ -1,0 +1,94 @@
+"""Figures of the population study, from results/population/ only:
+
+- population_penalties.png: each worker's penalty (score at the one-size location less the
+  score at their own optimum) against stature, one panel per one-size choice, postural score;
+- population_optima.png: each worker's optimum height against stature (with the fitted line,
+  the twin's elbow height and the published ranges of standing working height below it), and
+  the workers' optima and the one-size locations seen from the side.
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from common import read, save
+from population_tables import CHOICE_NAMES, short_source
+
+COLOURS = {"female": "#c44e52", "male": "#4c72b0"}
+OBJECTIVE = "paper_postural"
+
+
+def penalties() -> None:
+    table = read("population/penalties.csv")
+    one_size = read("population/one_size.csv").set_index(["objective", "choice"])
+    table = table[table["objective"] == OBJECTIVE]
+    choices = list(dict.fromkeys(table["choice"]))
+    fig, axes = plt.subplots(1, len(choices), figsize=(4.2 * len(choices), 3.6), sharey=True)
+    # Scores are whole numbers: a small fixed vertical spread keeps equal penalties visible.
+    jitter = np.random.default_rng(0).uniform(-0.12, 0.12, len(table) // len(choices))
+    for ax, choice in zip(axes, choices, strict=True):
+        rows = table[table["choice"] == choice]
+        for sex, colour in COLOURS.items():
+            pick = (rows["sex"] == sex).to_numpy()
+            ax.scatter(rows["stature_m"][pick], rows["penalty"][pick] + jitter[pick], s=18,
+                       color=colour, label=sex, alpha=0.8)
+        r = one_size.loc[(OBJECTIVE, choice)]
+        ax.set_title(f"{CHOICE_NAMES[choice]}\n({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) m: mean "
+                     f"penalty {r.mean_penalty:.2f} ({r.mean_ci_low:.2f}–{r.mean_ci_high:.2f})",
+                     fontsize=8)
+        ax.set_xlabel("stature [m]")
+        ax.axhline(0, color="0.6", lw=0.8)
+    axes[0].set_ylabel("penalty: postural score above own optimum")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"One handover location for everyone: who pays (N = {len(rows)} sampled "
+                 "workers; 95 % bootstrap intervals)", fontsize=9, y=1.06)
+    save(fig, "population_penalties.png")
+
+
+def optima() -> None:
+    workers = read("population/workers.csv")
+    fits = read("population/height_fit.csv")
+    one_size = read("population/one_size.csv")
+    sampled = workers[workers["reference"] == 0]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    stature = np.linspace(sampled["stature_m"].min(), sampled["stature_m"].max(), 50)
+    elbow = np.polyval(np.polyfit(sampled["stature_m"], sampled["elbow_height_m"], 1), stature)
+    for r, shade in zip(read("population/working_heights.csv").itertuples(),
+                        ("0.93", "0.86", "0.79"), strict=False):
+        left.fill_between(stature, elbow - r.high_cm / 100, elbow - r.low_cm / 100,
+                          color=shade, label=f"{r.low_cm:g}–{r.high_cm:g} cm below elbow "
+                          f"({short_source(r.source)})")
+    left.plot(stature, elbow, color="0.4", lw=1, label="the twin's elbow height")
+    fit = fits[(fits["objective"] == OBJECTIVE) & (fits["response"] == "y")
+               & (fits["predictor"] == "stature_m")].iloc[0]
+    left.plot(stature, fit.intercept + fit.slope * stature, color="k", ls="--",
+              label=f"fit: slope {fit.slope:.2f} ({fit.slope_ci_low:.2f}–"
+                    f"{fit.slope_ci_high:.2f}), R² {fit.r2:.2f}")
+    for sex, colour in COLOURS.items():
+        rows = sampled[sampled["sex"] == sex]
+        left.scatter(rows["stature_m"], rows[f"{OBJECTIVE}_y"], s=18, color=colour, label=sex)
+        right.scatter(rows[f"{OBJECTIVE}_z"], rows[f"{OBJECTIVE}_y"], s=18, color=colour,
+                      label=f"{sex}: own optimum", alpha=0.7)
+    left.set_xlabel("stature [m]")
+    left.set_ylabel("height of the own optimum, y [m]")
+    left.legend(fontsize=7)
+    left.set_title("The optimum's height and body size (postural score)", fontsize=9)
+    at = one_size[one_size["objective"] == OBJECTIVE]
+    for r, marker in zip(at.itertuples(), ("*", "D", "s"), strict=True):
+        right.scatter(r.z, r.y, marker=marker, s=90, facecolor="none", edgecolor="k",
+                      label=CHOICE_NAMES[r.choice])
+    right.set_xlabel("forward, z [m]")
+    right.set_ylabel("height, y [m]")
+    right.legend(fontsize=7)
+    right.set_title(f"Own optima and one-size locations, side view (N = {len(sampled)})",
+                    fontsize=9)
+    save(fig, "population_optima.png")
+
+
+def main() -> None:
+    penalties()
+    optima()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,150 @@
+"""The population study's tables in Markdown, from results/population/ only: what one-size
+handover locations cost the workforce against personalised ones, who pays, and how the
+optimum's height follows body size. make_tables.py puts them into results/tables.md; the README
+carries them and a test keeps the two equal."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+from ergohandover.learning.statistics import wilson
+
+CHOICE_NAMES = {"reference": "the 50th-percentile man's optimum",
+                "mean": "lowest mean score", "p95": "lowest 95th-percentile score"}
+OBJECTIVE_NAMES = {"paper_postural": "postural score", "reba": "REBA", "rula": "RULA"}
+
+
+def short_source(source: str) -> str:
+    """``Magnusson & Ortengren 1987`` from ``Magnusson M, Ortengren R (1987). ...``."""
+    authors, year = source.split(" (")[0], source.split(" (")[1][:4]
+    return " & ".join(name.split()[0] for name in authors.split(", ")) + f" {year}"
+
+
+def _read(folder: Path, name: str) -> pd.DataFrame:
+    return pd.read_csv(folder / name, keep_default_na=False, na_values=[""])
+
+
+def interval(mean: float, low: float, high: float, digits: int = 2) -> str:
+    """``0.50 (0.17–0.84)``; ``-4.7 (-7.7 to -1.9)`` when the interval has a negative end."""
+    dash = " to " if low < 0 else "–"
+    return f"{mean:.{digits}f} ({low:.{digits}f}{dash}{high:.{digits}f})"
+
+
+def share(row, name: str) -> str:
+    """``35 % (22–50 %)``: a share with its Wilson interval."""
+    return (f"{row[f'share_{name}']:.0%} ({row[f'share_{name}_ci_low']:.0%}–"
+            f"{row[f'share_{name}_ci_high']:.0%})")
+
+
+def one_size_table(one_size: pd.DataFrame) -> list[str]:
+    lines = ["| score | one-size location (x, y, z) [m] | chosen as | mean score at it | "
+             "workers' own optima, mean | penalty, mean | workers penalised | by 2 or more |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in one_size.itertuples():
+        row = one_size.loc[r.Index]
+        lines.append(
+            f"| {OBJECTIVE_NAMES[r.objective]} | ({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) | "
+            f"{CHOICE_NAMES[r.choice]} | "
+            f"{interval(r.mean_score, r.mean_score_ci_low, r.mean_score_ci_high)} | "
+            f"{r.mean_own_optimum:.2f} | "
+            f"{interval(r.mean_penalty, r.mean_ci_low, r.mean_ci_high)} | "
+            f"{share(row, 'penalised')} | {share(row, 'penalised_2plus')} |"
+            + ("" if r.infeasible_for == 0 else f" infeasible for {r.infeasible_for} |"))
+    return lines
+
+
+def who_pays_table(groups: pd.DataFrame, objective: str = "paper_postural") -> list[str]:
+    at = groups[groups["objective"] == objective]
+    choices = list(dict.fromkeys(at["choice"]))
+    lines = ["| workers | n | " + " | ".join(f"penalty at {CHOICE_NAMES[c]}" for c in choices)
+             + " |", "|---|---|" + "---|" * len(choices)]
+    for (_, group), rows in at.groupby(["by", "group"], sort=False):
+        rows = rows.set_index("choice")
+        cells = [f"{interval(r.mean_penalty, r.mean_ci_low, r.mean_ci_high)}; "
+                 f"{r.share_penalised:.0%} penalised" for r in
+                 (rows.loc[c] for c in choices)]
+        lines.append(f"| {group} | {int(rows['n'].iloc[0])} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def height_table(fits: pd.DataFrame) -> list[str]:
+    lines = ["| score | optimum's height against | slope (95 % CI) | R² | residual SD [cm] | "
+             "height above elbow height, mean [cm] (95 % CI) |", "|---|---|---|---|---|---|"]
+    at = fits[fits["response"] == "y"].set_index(["objective", "predictor"])
+    for objective in dict.fromkeys(fits["objective"]):
+        offset = at.loc[(objective, "offset_from_elbow")]
+        fit = at.loc[(objective, "stature_m")]
+        centimetres = 100 * offset[["mean_offset", "mean_offset_ci_low", "mean_offset_ci_high"]]
+        lines.append(
+            f"| {OBJECTIVE_NAMES[objective]} | stature | "
+            f"{interval(fit.slope, fit.slope_ci_low, fit.slope_ci_high)} | {fit.r2:.2f} | "
+            f"{100 * fit.residual_sd:.1f} | "
+            f"{interval(*centimetres, digits=1)} |")
+    return lines
+
+
+def working_heights_table(table: pd.DataFrame) -> list[str]:
+    lines = ["| hand height below elbow height | published for | source | workers whose "
+             "optimum is in it |", "|---|---|---|---|"]
+    for r in table.itertuples():
+        lines.append(f"| {r.low_cm:g}–{r.high_cm:g} cm | {r.condition} | "
+                     f"{short_source(r.source)}{', as quoted' if 'quoted' in r.source else ''}"
+                     f" | {r.within}/{r.n}, {r.share:.0%} ({r.ci_low:.0%}–{r.ci_high:.0%}) |")
+    return lines
+
+
+def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -> str:
+    """The README's answer, in one paragraph, for the paper's score."""
+    at = one_size[one_size["objective"] == "paper_postural"].set_index("choice")
+    sampled = workers[workers["reference"] == 0]
+    best = at.loc["mean"]
+    ref = at.loc["reference"]
+    sex = groups[(groups["objective"] == "paper_postural") & (groups["by"] == "sex")
+                 ].set_index(["choice", "group"])
+    served = int(sampled["robot_held"].sum())
+    low, high = wilson(served, len(sampled))
+
+    def paid(group: str) -> str:
+        return interval(*sex.loc[("reference", group), ["mean_penalty", "mean_ci_low",
+                                                        "mean_ci_high"]])
+
+    return (f"{len(sampled)} workers ({(sampled['sex'] == 'female').sum()} women), each at their "
+            f"own optimum, score {sampled['paper_postural_opt'].mean():.2f} on average. One "
+            f"location for everyone, the one of lowest mean score, costs a worker "
+            f"{interval(best.mean_penalty, best.mean_ci_low, best.mean_ci_high)} points of the "
+            f"postural score on average and penalises {share(best, 'penalised')} of them; the "
+            f"50th-percentile man's optimum, what the paper deploys, costs "
+            f"{interval(ref.mean_penalty, ref.mean_ci_low, ref.mean_ci_high)} and penalises "
+            f"{share(ref, 'penalised')}. There women pay {paid('female')}, men "
+            f"{paid('male')}. The robot holds the box at {served} of {len(sampled)} workers' "
+            f"own optima ({low:.0%}–{high:.0%}).")
+
+
+def blocks(results: Path) -> dict[str, str]:
+    """Each README block's text, from ``results``/population/ only."""
+    folder = results / "population"
+    one_size, groups, fits, workers, heights = (
+        _read(folder, f"{n}.csv") for n in
+        ("one_size", "groups", "height_fit", "workers", "working_heights"))
+    table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
+    return {"population-claim": claim(one_size, groups, workers),
+            "population-one-size": table(one_size_table(one_size)),
+            "population-who-pays": table(who_pays_table(groups)),
+            "population-height": table(height_table(fits)),
+            "population-working-heights": table(working_heights_table(heights))}
+
+
+def section(results: Path) -> list[str]:
+    """results/tables.md's population section."""
+    folder = results / "population"
+    manifest = json.loads((folder / "manifest.json").read_text())
+    made = blocks(results)
+    return [f"## Population: one-size vs personalised handover locations "
+            f"({manifest['grid']})", "", made["population-claim"], "",
+            "One-size locations and what they cost (95 % intervals):",
+            made["population-one-size"], "Who pays (postural score):",
+            made["population-who-pays"], "The optimum's height and body size:",
+            made["population-height"], made["population-working-heights"]]

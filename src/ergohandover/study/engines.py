@@ -1,0 +1,137 @@
+"""The engines a study part can run on, chosen by name: this machine's process pool, or Ray
+(jobs become Ray tasks on a new local instance or on a running cluster).
+
+:class:`RayExecutor` has the interface of :class:`~ergohandover.executor.LocalExecutor`
+(``map`` in job order, ``map_unordered`` as tasks finish), so a caller moves from one machine
+to a cluster by changing the engine, not its code. Ray is an optional dependency (``pip install -e
+".[cluster]"``), imported only here and only when a Ray executor is opened.
+
+Each task pins BLAS and OpenMP to one thread, as the local pool's workers do, so that a
+result never depends on where it was computed. On a cluster every node must have this package
+installed (the tasks import it by name).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
+
+from threadpoolctl import threadpool_limits
+
+from ..errors import ConfigError
+from ..executor import Executor, LocalExecutor, check_workers
+
+ENGINES = ("local", "ray")
+"""Where work can run: this machine's process pool, or Ray (a local instance or a cluster)."""
+INSTALL_HINT = 'pip install -e ".[cluster]"'
+
+
+def make_executor(engine: str = "local", workers: int = 1,
+                  address: str | None = None) -> Executor:
+    """The executor of an engine: ``local`` (a process pool of ``workers``) or ``ray`` (a new
+    local Ray instance of ``workers`` CPUs, or the running cluster at ``address``: ``auto`` or
+    ``HOST:PORT``). Every value is checked here; Ray is imported only when it is opened."""
+    if engine not in ENGINES:
+        raise ConfigError(f"engine = {engine!r} is not allowed (use "
+                          f"{' or '.join(map(repr, ENGINES))})")
+    if engine == "local":
+        if address is not None:
+            raise ConfigError(f"address = {address!r} needs engine = 'ray' (the local pool "
+                              "has no address)")
+        return LocalExecutor(workers)
+    return RayExecutor(workers, address)
+
+
+def _pinned(func: Callable[[Any], Any], job: Any) -> Any:
+    """``func(job)`` with BLAS and OpenMP limited to one thread (the body of every task)."""
+    with threadpool_limits(limits=1):
+        return func(job)
+
+
+def check_address(address: str | None) -> str | None:
+    """``None``, ``auto`` or ``HOST:PORT``; a one-line ConfigError otherwise."""
+    if address is None or address == "auto":
+        return address
+    host, _, port = address.rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise ConfigError(f"address = {address!r} is not valid (use auto or HOST:PORT, "
+                          "e.g. 10.0.0.5:6379)")
+    return address
+
+
+class RayExecutor:
+    """Runs jobs as Ray tasks of one CPU each.
+
+    Args:
+        workers: CPUs of the local Ray instance started when there is no ``address`` (ignored
+            when joining a cluster, whose own CPUs are used).
+        address: ``auto`` (the cluster this machine belongs to) or ``HOST:PORT`` of a running
+            cluster's head; ``None`` starts a local instance and stops it on exit.
+    """
+
+    def __init__(self, workers: int = 1, address: str | None = None):
+        self.workers = check_workers(workers)
+        self.address = check_address(address)
+        self._ray = None
+        self._remote = None
+        self._started = False
+
+    def __enter__(self) -> RayExecutor:
+        try:
+            import ray
+        except ImportError:
+            raise ConfigError(f"engine = 'ray' needs Ray, which is not installed "
+                              f"({INSTALL_HINT})") from None
+        self._ray = ray
+        if not ray.is_initialized():
+            options = {"include_dashboard": False, "log_to_driver": False,
+                       "logging_level": logging.WARNING}
+            if self.address is None:
+                ray.init(num_cpus=self.workers, **options)
+            else:
+                try:
+                    ray.init(address=self.address, **options)
+                except ConnectionError as exc:
+                    raise ConfigError(f"address = {self.address!r}: no Ray cluster answers "
+                                      f"there ({str(exc).splitlines()[0]})") from None
+            self._started = True
+        self._remote = ray.remote(num_cpus=1)(_pinned)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._started:
+            self._ray.shutdown()
+        self._ray, self._remote, self._started = None, None, False
+
+    @property
+    def cpus(self) -> int:
+        """CPUs of the instance or cluster this executor runs on."""
+        return int(self._ray.cluster_resources().get("CPU", 0))
+
+    def _submit(self, func: Callable[[Any], Any], jobs: Iterable[Any]) -> list:
+        func_ref = self._ray.put(func)  # shipped once, not with every task
+        return [self._remote.remote(func_ref, job) for job in jobs]
+
+    def map(self, func: Callable[[Any], Any], jobs: Iterable[Any]) -> Iterator[Any]:
+        """``func(job)`` for every job, yielded in job order (all submitted at once)."""
+        if self._ray is None:
+            with self:
+                yield from self.map(func, jobs)
+            return
+        for ref in self._submit(func, jobs):
+            yield self._ray.get(ref)
+
+    def map_unordered(self, func: Callable[[Any], Any],
+                      jobs: Iterable[Any]) -> Iterator[tuple[int, Any]]:
+        """``(index, func(jobs[index]))`` for every job, as each task finishes."""
+        if self._ray is None:
+            with self:
+                yield from self.map_unordered(func, jobs)
+            return
+        refs = self._submit(func, jobs)
+        index = {ref: i for i, ref in enumerate(refs)}
+        pending = list(refs)
+        while pending:
+            done, pending = self._ray.wait(pending, num_returns=1)
+            yield index[done[0]], self._ray.get(done[0])

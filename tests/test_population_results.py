@@ -1,0 +1,80 @@
+"""The committed population study: a workforce of at least 30, every one-size choice and its
+penalties consistent with the landscapes' optima, intervals around their estimates, and the
+README's blocks equal to what the tables script makes of results/population/. Bad input to the
+study's commands is a one-line error that writes nothing."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
+import population_tables  # noqa: E402
+
+FOLDER = ROOT / "results" / "population"
+
+
+def read(name: str) -> pd.DataFrame:
+    return pd.read_csv(FOLDER / name, keep_default_na=False, na_values=[""])
+
+
+def test_the_workforce_has_at_least_30_workers_and_the_reference():
+    workers = read("workers.csv")
+    sampled = workers[workers["reference"] == 0]
+    assert len(sampled) >= 30 and set(sampled["sex"]) == {"female", "male"}
+    assert list(workers.loc[workers["reference"] == 1, "worker"]) == ["p50-male"]
+    # Elbow height is the twin's (D&C: 0.632 of stature).
+    assert (workers["elbow_height_m"] / workers["stature_m"]).round(3).eq(0.632).all()
+
+
+def test_no_worker_scores_below_their_own_optimum_anywhere():
+    penalties = read("penalties.csv")
+    workers = read("workers.csv").set_index("worker")
+    assert (penalties["penalty"].dropna() >= 0).all()
+    for objective, rows in penalties.groupby("objective"):
+        own = workers.loc[rows["worker"], f"{objective}_opt"].to_numpy()
+        assert (rows["own_optimum"].to_numpy() == own).all()
+        taken = rows[objective].notna()
+        assert (rows[objective][taken] - own[taken.to_numpy()]
+                == rows["penalty"][taken]).all()
+
+
+def test_each_choice_is_best_by_its_own_rule_and_intervals_hold_their_estimates():
+    one_size = read("one_size.csv")
+    for _, rows in one_size.groupby("objective"):
+        rows = rows.set_index("choice")
+        assert rows.loc["mean", "mean_score"] <= rows["mean_score"].min() + 1e-12
+        assert rows.loc["p95", "p95_score"] <= rows["p95_score"].min()
+        assert rows.loc[["mean", "p95"], "infeasible_for"].eq(0).all()
+    for stem in ("mean", "share_penalised", "share_penalised_2plus"):
+        value = one_size["mean_penalty" if stem == "mean" else stem]
+        assert (one_size[f"{stem}_ci_low"] <= value + 1e-12).all()
+        assert (value <= one_size[f"{stem}_ci_high"] + 1e-12).all()
+
+
+def test_the_readme_population_blocks_are_the_committed_results():
+    readme = (ROOT / "README.md").read_text()
+    for name, block in population_tables.blocks(ROOT / "results").items():
+        assert readme.split(f"<!-- {name} -->")[1].split(f"<!-- /{name} -->")[0] == block, name
+
+
+@pytest.mark.parametrize(("command", "message"), [
+    (["experiments/study_population.py", "--size", "0"],
+     "study_population: error: size = 0 is outside the valid range"),
+    (["experiments/study_population.py", "--engine", "ray", "--address", "nonsense"],
+     "study_population: error: address = 'nonsense' is not valid"),
+    (["experiments/run_all.py", "--only", "population", "--engine", "ray", "--address",
+      "host:port"], "run_all: error: address = 'host:port' is not valid"),
+])
+def test_bad_population_input_is_one_line_and_writes_nothing(tmp_path, command, message):
+    out = subprocess.run([sys.executable, str(ROOT / command[0]), *command[1:], "--results",
+                          str(tmp_path / "results")], capture_output=True, text=True,
+                         cwd=ROOT, timeout=120)
+    assert out.returncode == 2
+    assert out.stderr.strip().startswith(message) and len(out.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "results").exists()
