@@ -13,7 +13,7 @@ from synthetic import CENTRE, bowl_env, bowl_landscape, flat
 
 from ergohandover.envs import HandoverEnv, LandscapeScores
 from ergohandover.learning.qlearning import QLearningConfig, adapt_temperature, run_qlearning
-from ergohandover.learning.search import exhaustive, run_hillclimb, run_random
+from ergohandover.learning.search import exhaustive, run_hillclimb, run_random, run_randomwalk
 from ergohandover.learning.trace import TRACE_COLUMNS, Budget, write_result
 
 ADAPTIVE = QLearningConfig(temperature="adaptive")
@@ -112,9 +112,17 @@ def test_a_time_cap_stops_the_run_and_not_before_it():
     assert result.trace["time_s"].iloc[-1] == pytest.approx(result.elapsed_s, abs=1e-6)
 
 
-def test_stop_score_ends_the_run_when_reached():
-    result = run_qlearning(bowl_env(), Budget(steps=100_000, stop_score=5), 0)
+@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random, run_hillclimb])
+def test_stop_score_ends_the_run_when_reached(agent):
+    result = agent(bowl_env(), Budget(steps=100_000, stop_score=5), 0)
     assert result.stopped_by == "stop_score" and result.steps == result.first_reached[1]
+    assert result.best_score <= 5
+
+
+@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random, run_hillclimb])
+def test_without_a_stop_score_the_run_spends_its_whole_budget(agent):
+    result = agent(bowl_env(), Budget(steps=3_000), 0)
+    assert result.stopped_by == "step_cap" and result.steps == 3_000
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [

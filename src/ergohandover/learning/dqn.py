@@ -8,7 +8,6 @@ is the only place in the package where a global RNG is touched.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import gymnasium as gym
@@ -105,9 +104,8 @@ def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
         raise ConfigError("DQN needs the env's observation = 'position' (got "
                          f"{base.observation!r})")
     torch.set_num_threads(cfg.threads)
-    best = BestSoFar(base.location)
+    best = BestSoFar(base.location, budget.stop_score)
     watched = _Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
-    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
 
     class Caps(BaseCallback):
         def _on_step(self) -> bool:
@@ -117,7 +115,7 @@ def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
                     progress(steps, best.elapsed())
                 if best.elapsed() >= budget.time_limit:
                     return False
-            return best.best > stop_score and steps < budget.step_limit
+            return not best.reached and steps < budget.step_limit
 
     total = budget.steps if budget.steps is not None else UNBOUNDED_STEPS
     env_seed, _ = seeds_of(seed)

@@ -111,8 +111,8 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
     env.reset(seed=env_seed)
     cell = base.cell
     score = base.scores.score(cell)
-    best = BestSoFar(base.location)
-    best.offer(0, score, cell)
+    best = BestSoFar(base.location, budget.stop_score)
+    done = best.offer(0, score, cell)
     size = base.grid.size
     q = array("d", [0.0]) * (6 * size)
     visited = bytearray(size)
@@ -121,9 +121,8 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
     adaptive, tau = cfg.temperature == "adaptive", cfg.tau
     k = 1.0 / tau
     episode_steps, episodes, in_episode = cfg.episode_steps, 1, 0
-    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
     step_limit, time_limit = budget.step_limit, budget.time_limit
-    steps, best_score, done = 0, best.best, best.best <= stop_score
+    steps, best_score = 0, best.best
     while not done and steps < step_limit and best.elapsed() < time_limit:
         draws = rng.random(int(min(BLOCK, step_limit - steps))).tolist()
         for u in draws:
@@ -155,9 +154,8 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
             visited[cell] = 1
             steps += 1
             if new <= best_score:
-                best.offer(steps, new, nxt)
                 best_score = new
-                if new <= stop_score:
+                if best.offer(steps, new, nxt):
                     done = True
                     break
             if adaptive:
@@ -169,9 +167,8 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
                 cell, in_episode, episodes = base.cell, 0, episodes + 1
                 score = base.scores.score(cell)
                 if score <= best_score:
-                    best.offer(steps, score, cell)
                     best_score = score
-                    if score <= stop_score:
+                    if best.offer(steps, score, cell):
                         done = True
                         break
             else:

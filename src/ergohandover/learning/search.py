@@ -33,21 +33,18 @@ def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
     cell = base.cell
-    best = BestSoFar(base.location)
-    best.offer(0, score_of(cell), cell)
-    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    best = BestSoFar(base.location, budget.stop_score)
+    done = best.offer(0, score_of(cell), cell)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, in_episode, episodes = 0, best.best, 0, 1
-    done = best_score <= stop_score
     while not done and steps < step_limit and best.elapsed() < time_limit:
         for a in rng.integers(6, size=int(min(BLOCK, step_limit - steps))).tolist():
             cell, s, _, terminated = transition(cell, a)
             steps += 1
             in_episode += 1
             if s <= best_score:
-                best.offer(steps, s, cell)
                 best_score = s
-                if s <= stop_score:
+                if best.offer(steps, s, cell):
                     done = True
                     break
             if terminated or in_episode >= episode_steps:
@@ -55,9 +52,8 @@ def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_
                 cell, in_episode, episodes = base.cell, 0, episodes + 1
                 s = score_of(cell)
                 if s <= best_score:
-                    best.offer(steps, s, cell)
                     best_score = s
-                    if s <= stop_score:
+                    if best.offer(steps, s, cell):
                         done = True
                         break
         if progress:
@@ -77,8 +73,7 @@ def run_random(env, budget: Budget, seed: int, progress: Progress | None = None)
     base: HandoverEnv = env.unwrapped
     _, rng = seeds_of(seed)
     score, size = base.scores.score, base.grid.size
-    best = BestSoFar(base.location)
-    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    best = BestSoFar(base.location, budget.stop_score)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, done = 0, math.inf, False
     while not done and steps < step_limit and best.elapsed() < time_limit:
@@ -86,9 +81,8 @@ def run_random(env, budget: Budget, seed: int, progress: Progress | None = None)
             steps += 1
             s = score(cell)
             if s <= best_score:
-                best.offer(steps, s, cell)
                 best_score = s
-                if s <= stop_score:
+                if best.offer(steps, s, cell):
                     done = True
                     break
         if progress:
@@ -114,14 +108,12 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
     env_seed, _ = seeds_of(seed)
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
-    best = BestSoFar(base.location)
-    stop_score = -math.inf if budget.stop_score is None else budget.stop_score
+    best = BestSoFar(base.location, budget.stop_score)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     cell = base.cell
     here, best_score = base.reward(cell), score_of(cell)
-    best.offer(0, best_score, cell)
+    done = best.offer(0, best_score, cell)
     steps, restarts, next_check = 0, 0, BLOCK
-    done = best_score <= stop_score
     while not done and steps < step_limit:
         if steps >= next_check:
             next_check += BLOCK
@@ -136,9 +128,8 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
             nxt, s, r, terminated = transition(cell, a)
             steps += 1
             if s <= best_score:
-                best.offer(steps, s, nxt)
                 best_score = s
-                if s <= stop_score:
+                if best.offer(steps, s, nxt):
                     done = True
                     break
             if r > move_reward:
@@ -148,9 +139,8 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
             cell, restarts = base.cell, restarts + 1
             here, s = base.reward(cell), score_of(cell)
             if s <= best_score:
-                best.offer(steps, s, cell)
                 best_score = s
-                done = done or s <= stop_score
+                done = best.offer(steps, s, cell) or done
         else:
             cell, here = move, move_reward
     if progress:

@@ -69,19 +69,24 @@ class BestSoFar:
 
     Args:
         location: flat cell -> (x, y, z) [m].
+        stop_score: the score at or below which the search stops (the budget's; None: never).
     """
 
-    def __init__(self, location: Callable[[int], tuple[float, float, float]]):
+    def __init__(self, location: Callable[[int], tuple[float, float, float]],
+                 stop_score: float | None = None):
         self.location = location
+        self.stop_score = -math.inf if stop_score is None else stop_score
         self.best = math.inf
         self.cells: dict[int, int] = {}  # cell at the best score -> step first seen there
         self.rows: list[tuple] = []
         self.start = time.perf_counter()
         self.stopped: float | None = None
 
-    def offer(self, step: int, score: float, cell: int) -> None:
+    def offer(self, step: int, score: float, cell: int) -> bool:
+        """Record ``score`` seen at ``cell`` at ``step``; True when it reaches the stop score
+        (the agent then stops)."""
         if score == math.inf:  # an infeasible cell is never a best location
-            return
+            return False
         if score < self.best:
             self.best = score
             self.cells = {cell: step}
@@ -89,6 +94,12 @@ class BestSoFar:
                               *self.location(cell)))
         elif cell not in self.cells:
             self.cells[cell] = step
+        return score <= self.stop_score
+
+    @property
+    def reached(self) -> bool:
+        """Whether the best score so far is at or below the stop score."""
+        return self.best <= self.stop_score
 
     def elapsed(self) -> float:
         """Seconds since the run started (until :meth:`stop`)."""
