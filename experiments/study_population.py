@@ -28,9 +28,6 @@ Writes results/population/:
 
 from __future__ import annotations
 
-import argparse
-import os
-import sys
 import time
 from pathlib import Path
 
@@ -39,7 +36,6 @@ import pandas as pd
 import study_landscape
 from scipy import stats
 
-from ergohandover.errors import ErgohandoverError
 from ergohandover.executor import Executor
 from ergohandover.io.atomic import atomic_write_csv
 from ergohandover.landscape.grid import Grid, parse_boundary
@@ -47,7 +43,7 @@ from ergohandover.landscape.stats import optimum
 from ergohandover.landscape.workforce_sweep import CHUNK_POINTS, sweep_workforce
 from ergohandover.scene.robot import RobotSpec
 from ergohandover.study.engines import ENGINES, make_executor
-from ergohandover.study.parts import part_config, run_part
+from ergohandover.study.parts import part_config, run_part, study_main, study_parser
 from ergohandover.study.population import (
     CHOICES,
     line_fit,
@@ -221,31 +217,20 @@ def run(config: dict, results: Path, workers: int, force: bool = False, engine: 
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=ROOT / "experiments/configs/default.json",
-                        help="study configuration (default: experiments/configs/default.json)")
-    parser.add_argument("--results", type=Path, default=ROOT / "results",
-                        help="results folder (default: results/)")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes, or the CPUs of a new local Ray instance "
-                             "(default: all cores)")
+    parser = study_parser(__doc__, ROOT)
     parser.add_argument("--engine", choices=ENGINES, default="local",
-                        help="where the landscapes are swept (default: local)")
+                        help="where the landscapes are swept: the local pool, or Ray with "
+                        "--workers CPUs (default: local)")
     parser.add_argument("--address", help="a running Ray cluster: auto or HOST:PORT "
                         "(with --engine ray; default: start a local instance)")
     parser.add_argument("--size", type=int, help="workers to draw (default: the config's)")
-    args = parser.parse_args()
-    import json
 
-    config = json.loads(args.config.read_text())
-    if args.size is not None:
-        config["population"]["size"] = args.size
-    try:
-        run(config, args.results, args.workers, force=True, engine=args.engine,
-            address=args.address)
-    except ErgohandoverError as exc:
-        print(f"study_population: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+    def prepare(args, config: dict) -> tuple[dict, dict]:
+        if args.size is not None:
+            config["population"]["size"] = args.size
+        return config, {"engine": args.engine, "address": args.address}
+
+    study_main(run, __doc__, ROOT, parser, prepare)
 
 
 if __name__ == "__main__":

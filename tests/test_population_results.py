@@ -70,6 +70,8 @@ def test_the_readme_population_blocks_are_the_committed_results():
      "study_population: error: address = 'nonsense' is not valid"),
     (["experiments/run_all.py", "--only", "population", "--engine", "ray", "--address",
       "host:port"], "run_all: error: address = 'host:port' is not valid"),
+    (["experiments/study_population.py", "--config", "no/such/config.json"],
+     "study_population: error: config = 'no/such/config.json' is not a readable JSON file"),
 ])
 def test_bad_population_input_is_one_line_and_writes_nothing(tmp_path, command, message):
     out = subprocess.run([sys.executable, str(ROOT / command[0]), *command[1:], "--results",

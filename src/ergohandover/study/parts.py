@@ -78,9 +78,9 @@ def run_part(name: str, folder: Path, config: dict[str, Any],
     return True
 
 
-def study_main(run: Callable[..., None], doc: str, root: Path) -> None:
-    """The command line shared by every ``experiments/study_<part>.py``: run that part alone
-    (always, even if finished) with ``--config``, ``--results`` and ``--workers``."""
+def study_parser(doc: str, root: Path):
+    """The options every ``experiments/study_<part>.py`` takes: ``--config``, ``--results``
+    and ``--workers`` (a part adds its own to the parser returned)."""
     import argparse
     import os
 
@@ -91,5 +91,31 @@ def study_main(run: Callable[..., None], doc: str, root: Path) -> None:
                         help="results folder (default: results/)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                         help="processes (default: all cores)")
-    args = parser.parse_args()
-    run(json.loads(args.config.read_text()), args.results, args.workers, force=True)
+    return parser
+
+
+def study_main(run: Callable[..., None], doc: str, root: Path, parser=None,
+               prepare: Callable[[Any, dict], tuple[dict, dict]] | None = None) -> None:
+    """Run one part alone (always, even if finished) from the command line of
+    :func:`study_parser`, or of ``parser`` (one the part extended), whose own options
+    ``prepare(args, config)`` turns into (the configuration, keyword arguments of ``run``);
+    a bad value ends it with one line and exit code 2."""
+    import sys
+
+    from ..errors import ErgohandoverError
+
+    args = (parser or study_parser(doc, root)).parse_args()
+    try:
+        config = json.loads(args.config.read_text())
+    except (OSError, ValueError) as exc:
+        print(f"{Path(sys.argv[0]).stem}: error: config = '{args.config}' is not a readable "
+              f"JSON file ({type(exc).__name__})", file=sys.stderr)
+        sys.exit(2)
+    options = {}
+    if prepare:
+        config, options = prepare(args, config)
+    try:
+        run(config, args.results, args.workers, force=True, **options)
+    except ErgohandoverError as exc:
+        print(f"{Path(sys.argv[0]).stem}: error: {exc}", file=sys.stderr)
+        sys.exit(2)
