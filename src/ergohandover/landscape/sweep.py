@@ -57,6 +57,27 @@ def _save_part(path, part: dict[str, np.ndarray]) -> None:
     atomic_write(path, lambda h: np.savez(h, **part), binary=True)
 
 
+def cached(key: str) -> Landscape | None:
+    """The cache's landscape of ``key``, or None when there is none or it cannot be used (a
+    corrupted or mismatched file is reported and will be recomputed)."""
+    path = landscape_path(key)
+    if not path.exists():
+        return None
+    try:
+        return Landscape.load(path, key)
+    except LandscapeError as exc:
+        print(f"recomputing: {exc}", file=sys.stderr)
+        return None
+
+
+def require_feasible(landscape: Landscape, whose: str = "") -> None:
+    """A one-line LandscapeError when no point of the landscape is feasible."""
+    if not landscape.feasible.any():
+        raise LandscapeError(f"no feasible point in the boundary ({landscape.grid.describe()})"
+                             f"{whose}: every location is out of reach, inside the body or "
+                             "unbalanced")
+
+
 def sweep(grid: Grid, evaluator: Evaluator | None = None, workers: int = 1,
           progress: bool = True, stop_after_parts: int | None = None,
           ) -> tuple[Landscape | None, bool]:
@@ -76,11 +97,9 @@ def sweep(grid: Grid, evaluator: Evaluator | None = None, workers: int = 1,
     evaluator = evaluator or Evaluator()
     key = landscape_key(evaluator, grid)
     output = landscape_path(key)
-    if output.exists():
-        try:
-            return Landscape.load(output, key), True
-        except LandscapeError as exc:
-            print(f"recomputing: {exc}", file=sys.stderr)
+    landscape = cached(key)
+    if landscape is not None:
+        return landscape, True
     parts_dir = output.with_name(output.name + ".parts")
     if (parts_dir / "key").exists() and (parts_dir / "key").read_text() != key:
         shutil.rmtree(parts_dir)
@@ -136,8 +155,7 @@ def sweep(grid: Grid, evaluator: Evaluator | None = None, workers: int = 1,
         "points_computed": computed, "seconds": round(elapsed, 2)})
     if not landscape.feasible.any():
         shutil.rmtree(parts_dir)
-        raise LandscapeError(f"no feasible point in the boundary ({grid.describe()}): every "
-                             "location is out of reach, inside the body or unbalanced")
+    require_feasible(landscape)
     landscape.save(output)
     shutil.rmtree(parts_dir)
     return landscape, False

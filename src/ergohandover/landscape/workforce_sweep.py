@@ -29,7 +29,7 @@ from ..executor import Executor, LocalExecutor
 from ..twin.evaluate import Evaluator, evaluate_arrays
 from .cache import Landscape, LandscapeError, landscape_key, landscape_path
 from .grid import Grid
-from .sweep import ANGLES, SCORES, compact
+from .sweep import ANGLES, SCORES, cached, compact, require_feasible
 
 CHUNK_POINTS = 131_072
 """Grid points per task (a 1 cm paper-code landscape is one task; a 3 mm one is 25)."""
@@ -48,17 +48,6 @@ class Finished(NamedTuple):
 def _chunk_job(job: tuple[Evaluator, Grid, int, int]) -> dict[str, np.ndarray]:
     evaluator, grid, start, stop = job
     return compact(evaluate_arrays(grid.points(start, stop), evaluator, columns=COLUMNS))
-
-
-def _cached(key: str) -> Landscape | None:
-    path = landscape_path(key)
-    if not path.exists():
-        return None
-    try:
-        return Landscape.load(path, key)
-    except LandscapeError as exc:
-        print(f"recomputing: {exc}", file=sys.stderr)
-        return None
 
 
 def sweep_workforce(grid: Grid, evaluators: Sequence[Evaluator],
@@ -82,7 +71,7 @@ def sweep_workforce(grid: Grid, evaluators: Sequence[Evaluator],
     keys = [landscape_key(e, grid) for e in evaluators]
     todo = []
     for i, key in enumerate(keys):
-        landscape = _cached(key)
+        landscape = cached(key)
         if landscape is None:
             todo.append(i)
         else:
@@ -110,10 +99,7 @@ def sweep_workforce(grid: Grid, evaluators: Sequence[Evaluator],
                 "evaluator": dataclasses.asdict(evaluators[i]), "version": __version__,
                 "points_computed": grid.size,
                 "seconds_since_sweep_start": round(time.perf_counter() - start_time, 2)})
-            if not landscape.feasible.any():
-                raise LandscapeError(f"no feasible point in the boundary ({grid.describe()}) "
-                                     f"for {evaluators[i].body}: every location is out of "
-                                     "reach, inside the body or unbalanced")
+            require_feasible(landscape, f" for {evaluators[i].body}")
             landscape.save(landscape_path(keys[i]))
             bar.update(1)
             yield Finished(i, landscape, False)
