@@ -14,6 +14,7 @@ LEARNING = ROOT / "results" / "learning"
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 
 import learning_tables  # noqa: E402
+from readme_blocks import readme_block  # noqa: E402
 
 
 def read(name: str) -> pd.DataFrame:
@@ -62,7 +63,7 @@ def test_success_is_reaching_the_target_and_never_beyond_it():
 def test_the_readme_learning_blocks_are_the_committed_results():
     readme = (ROOT / "README.md").read_text()
     for name, block in learning_tables.blocks(ROOT / "results").items():
-        assert learning_tables.readme_block(readme, name) == block, name
+        assert readme_block(readme, name) == block, name
 
 
 def test_the_baselines_carry_the_box_to_where_the_learner_ended():

@@ -15,6 +15,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 import population_tables  # noqa: E402
+from readme_blocks import readme_block  # noqa: E402
 
 FOLDER = ROOT / "results" / "population"
 
@@ -60,7 +61,7 @@ def test_each_choice_is_best_by_its_own_rule_and_intervals_hold_their_estimates(
 def test_the_readme_population_blocks_are_the_committed_results():
     readme = (ROOT / "README.md").read_text()
     for name, block in population_tables.blocks(ROOT / "results").items():
-        assert readme.split(f"<!-- {name} -->")[1].split(f"<!-- /{name} -->")[0] == block, name
+        assert readme_block(readme, name) == block, name
 
 
 @pytest.mark.parametrize(("command", "message"), [

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import pandas as pd
+from readme_blocks import rewrite
 
 AGENT_NAMES = {"qlearning": "Q-learning (τ 0.7)", "qlearning-adaptive": "Q-learning (adaptive τ)",
                "dqn": "DQN", "randomwalk": "random walk", "random": "random sampling",
@@ -163,24 +164,11 @@ def tally(comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
     return lines
 
 
-def readme_block(readme: str, name: str) -> str:
-    """The text of block ``name`` in the README (between its markers)."""
-    return readme.split(f"<!-- {name} -->")[1].split(f"<!-- /{name} -->")[0]
-
-
 def main() -> None:
     """Rewrite the README's learning blocks from results/ (run after the study)."""
-    from common import RESULTS, ROOT
+    from common import RESULTS
 
-    from ergohandover.io.atomic import atomic_write
-
-    path = ROOT / "README.md"
-    text = path.read_text()
-    for name, block in blocks(RESULTS).items():
-        text = text.replace(f"<!-- {name} -->{readme_block(text, name)}<!-- /{name} -->",
-                            f"<!-- {name} -->{block}<!-- /{name} -->")
-    atomic_write(path, lambda h: h.write(text))
-    print(f"wrote {path}")
+    rewrite(blocks(RESULTS))
 
 
 if __name__ == "__main__":

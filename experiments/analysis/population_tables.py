@@ -1,7 +1,8 @@
 """The population study's tables in Markdown, from results/population/ only: what one-size
 handover locations cost the workforce against personalised ones, who pays, and how the
 optimum's height follows body size. make_tables.py puts them into results/tables.md; the README
-carries them and a test keeps the two equal."""
+carries them and a test keeps the two equal; ``python population_tables.py`` rewrites the
+README's blocks."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import json
 from pathlib import Path
 
 import pandas as pd
+from readme_blocks import rewrite
 
 from ergohandover.learning.statistics import wilson
 
@@ -148,3 +150,14 @@ def section(results: Path) -> list[str]:
             made["population-one-size"], "Who pays (postural score):",
             made["population-who-pays"], "The optimum's height and body size:",
             made["population-height"], made["population-working-heights"]]
+
+
+def main() -> None:
+    """Rewrite the README's population blocks from results/ (run after the study)."""
+    from common import RESULTS
+
+    rewrite(blocks(RESULTS))
+
+
+if __name__ == "__main__":
+    main()

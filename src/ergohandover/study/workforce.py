@@ -17,8 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import ConfigError
-from ..twin.anthropometry import _ANSUR2 as ANSUR2  # one table of the survey's statistics
-from ..twin.anthropometry import MASS_RANGE_KG, STATURE_RANGE_M, BodySpec
+from ..twin.anthropometry import ANSUR2, MASS_RANGE_KG, STATURE_RANGE_M, BodySpec
 
 STATURE_MASS_CORRELATION = {"male": 0.471, "female": 0.539}
 """Pearson correlation of stature and log body weight in ANSUR II, per sex: computed from the

@@ -31,11 +31,12 @@ class BodySpecError(ConfigError):
     """A body specification is outside what the model supports; the message is one line."""
 
 
-# ANSUR II (2012) summary statistics per sex: stature mean and SD [m], weight mean and SD [kg].
-_ANSUR2 = {
+ANSUR2 = {
     "male": (1.756, 0.0686, 85.5, 14.2),
     "female": (1.629, 0.0640, 67.8, 11.4),
 }
+"""ANSUR II (2012) summary statistics per sex: stature mean and SD [m], weight mean and SD [kg]
+(the named percentiles and the population study's workforce are drawn from it)."""
 _PERCENTILE_Z = {"p5": NormalDist().inv_cdf(0.05), "p50": 0.0, "p95": NormalDist().inv_cdf(0.95)}
 
 
@@ -49,7 +50,7 @@ def _percentile_table() -> dict[str, tuple[float, float, str]]:
     """
     table = {}
     for sex in ("female", "male"):
-        h_mean, h_sd, m_mean, m_sd = _ANSUR2[sex]
+        h_mean, h_sd, m_mean, m_sd = ANSUR2[sex]
         sigma = math.sqrt(math.log(1.0 + (m_sd / m_mean) ** 2))
         mu = math.log(m_mean) - 0.5 * sigma**2
         for name, z in _PERCENTILE_Z.items():
@@ -249,7 +250,7 @@ LUMBAR_STRENGTH_NM = 288.0
 # 35:246); one line serves both sexes, the men's.
 HAMSTRING_HIP_AT_STRAIGHT_KNEE_DEG = 61.0
 HAMSTRING_KNEE_AT_HIP_90_DEG = 31.0
-GRAVITY = 9.81
+GRAVITY = 9.81  # [m/s²], the one value of the twin (body weights, the effort task)
 
 
 def _check_range(field: str, value: object, valid: tuple[float, float], unit: str) -> None:

@@ -29,8 +29,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .anthropometry import GRAVITY
 from .kernel_tasks import (
-    GRAVITY,
     JIT,
     ROWS,
     effort_relations,

@@ -24,7 +24,6 @@ from numba import njit
 ROWS = 16
 GRIP_ROW, PALM_ROW = (0, 10), (3, 13)  # first row of each side's task
 BALANCE_ROW, EFFORT_ROW, GAZE_ROW = 6, 8, 9
-GRAVITY = 9.81  # [m/s²], as in :mod:`.tasks`
 JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 

@@ -10,10 +10,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .anthropometry import GRAVITY
 from .kinematics import KinematicState
 from .skeleton import PALM_NORMAL
 
-GRAVITY = 9.81  # [m/s²]
 EFFORT_JOINTS = ("knee_flexion", "hip_flexion", "lumbar_flexion")
 """The joints whose extensors hold a load in front of the body, in the effort task's order
 (the kernel finds the hamstrings' knee and hip as the first two)."""
