@@ -64,6 +64,12 @@ def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: lis
     return lines
 
 
+def per_agent(at: pd.DataFrame, target: str, agents: list[str], cell) -> str:
+    """One target's cells, ``cell(row)`` for each agent (``–`` where it has no row), joined."""
+    return " | ".join(cell(at.loc[(target, a)]) if (target, a) in at.index else "–"
+                      for a in agents)
+
+
 def agents_table(summary: pd.DataFrame, budget: str) -> list[str]:
     """Every agent's success (with interval) and median evaluations to the target, per target,
     at one budget."""
@@ -71,16 +77,13 @@ def agents_table(summary: pd.DataFrame, budget: str) -> list[str]:
     lines = ["| target | " + " | ".join(AGENT_NAMES[a] for a in agents) + " |",
              "|---|" + "---|" * len(agents)]
     at = summary[summary["budget"] == budget].set_index(["target", "agent"])
+
+    def cell(r) -> str:
+        return (f"{int(r['successes'])}/{int(r['n_runs'])}, "
+                f"{evaluations(r['median_evals_to_target'])}")
+
     for target in dict.fromkeys(summary["target"]):
-        row = []
-        for a in agents:
-            if (target, a) not in at.index:
-                row.append("–")
-                continue
-            r = at.loc[(target, a)]
-            row.append(f"{int(r['successes'])}/{int(r['n_runs'])}, "
-                       f"{evaluations(r['median_evals_to_target'])}")
-        lines.append(f"| {target} | {' | '.join(row)} |")
+        lines.append(f"| {target} | {per_agent(at, target, agents, cell)} |")
     return lines
 
 
@@ -93,19 +96,16 @@ def rollouts_table(summary: pd.DataFrame) -> list[str]:
     lines = ["| target | steps allowed | " + " | ".join(AGENT_NAMES[a] for a in agents) + " |",
              "|---|---|" + "---|" * len(agents)]
     at = walks.set_index(["target", "agent"])
+
+    def cell(r) -> str:
+        steps = "" if not math.isfinite(r["rollout_mean_steps"]) else \
+            f", {r['rollout_mean_steps']:.0f} steps"
+        return (f"{int(r['rollout_reached'])}/{int(r['rollouts'])} "
+                f"({r['rollout_ci_low']:.2f}–{r['rollout_ci_high']:.2f}){steps}")
+
     for target in dict.fromkeys(walks["target"]):
-        row = []
-        for a in agents:
-            if (target, a) not in at.index:
-                row.append("–")
-                continue
-            r = at.loc[(target, a)]
-            steps = "" if not math.isfinite(r["rollout_mean_steps"]) else \
-                f", {r['rollout_mean_steps']:.0f} steps"
-            row.append(f"{int(r['rollout_reached'])}/{int(r['rollouts'])} "
-                       f"({r['rollout_ci_low']:.2f}–{r['rollout_ci_high']:.2f}){steps}")
         limit = int(at.loc[(target, agents[0]), "rollout_limit"])
-        lines.append(f"| {target} | {limit} | {' | '.join(row)} |")
+        lines.append(f"| {target} | {limit} | {per_agent(at, target, agents, cell)} |")
     return lines
 
 
