@@ -95,14 +95,13 @@ def sweep_scores(grid: Grid, evaluators: list[Evaluator], executor: Executor,
             for objective in OBJECTIVES:
                 matrices[objective][done.index] = done.landscape.arrays[objective]
                 cells, best = optimum(done.landscape, objective)
+                points = grid.coordinates(cells)  # every cell at the optimum; best is one
                 optima[done.index] |= {
                     f"{objective}_opt": int(done.landscape.arrays[objective][cells[0]]),
                     **{f"{objective}_{a}": round(float(best[k]), 6) for k, a in enumerate("xyz")},
                     f"{objective}_cells": len(cells),
-                    f"{objective}_cell": int(cells[np.flatnonzero(
-                        np.all(grid.coordinates(cells) == best, axis=1))[0]]),
-                    f"{objective}_region_y": round(float(np.median(
-                        grid.coordinates(cells)[:, 1])), 6)}
+                    f"{objective}_cell": int(cells[(points == best).all(axis=1)][0]),
+                    f"{objective}_region_y": round(float(np.median(points[:, 1])), 6)}
     sweep = {"engine": type(executor).__name__, "cpus": cpus, "workers_reused": reused,
              "workers_computed": len(evaluators) - reused,
              "sweep_seconds": round(time.perf_counter() - start, 1)}

@@ -38,6 +38,11 @@ def compare(a: Path, b: Path, parts: list[str] | None = None) -> bool:
     for name in TABLES:
         if parts and name.split("/")[0] not in parts:
             continue
+        missing = [str(folder) for folder in (a, b) if not (folder / name).exists()]
+        if missing:
+            print(f"{name}: MISSING in {' and '.join(missing)}")
+            same = False
+            continue
         x, y = read(a, name), read(b, name)
         exact = [c for c in x.columns if c not in TIME_COLUMNS]
         if not x[exact].equals(y[exact]):
