@@ -1,4 +1,4 @@
-"""The grid, the exhaustive sweep (cache, resume after kill -9, corruption) and its statistics."""
+"""The grid, the landscape door (cache, resume after kill -9, corruption) and its statistics."""
 
 from __future__ import annotations
 
@@ -12,14 +12,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import ergohandover.landscape.cache as cache_module
+import ergohandover.landscape.sweep as sweep_module
 from ergohandover.cli import main
 from ergohandover.ergonomics import ScoringSettings
-from ergohandover.landscape import cache as cache_module
-from ergohandover.landscape import sweep as sweep_module
-from ergohandover.landscape.cache import landscape_key, landscape_path
+from ergohandover.landscape import Landscape, LandscapeError, landscape_key, landscapes_of
+from ergohandover.landscape.cache import landscape_path
 from ergohandover.landscape.grid import Grid, parse_boundary
 from ergohandover.landscape.stats import most_symmetric, statistics
-from ergohandover.landscape.sweep import Landscape, LandscapeError, sweep
+from ergohandover.landscape.sweep import SweepInterrupted
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import REASONS, Evaluator, evaluate
 from ergohandover.twin.solver import SolverSettings
@@ -75,18 +76,25 @@ def cache(tmp_path, monkeypatch):
     return tmp_path / "cache"
 
 
+def sweep(grid, evaluator=None, **kwargs):
+    """(landscape, reused): one landscape through the door."""
+    [done] = landscapes_of([evaluator or Evaluator()], grid, progress=False, **kwargs)
+    return done.landscape, done.reused
+
+
 def fresh_sweep(grid, tmp_path, monkeypatch, **kwargs):
     """The same grid swept from nothing, in a second, empty cache."""
     monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "fresh_cache"))
-    return sweep(grid, Evaluator(), progress=False, **kwargs)[0]
+    return sweep(grid, **kwargs)[0]
 
 
 def test_the_landscape_holds_what_evaluate_says(cache):
     grid = Grid(SMALL, 0.05)
-    landscape, reused = sweep(grid, Evaluator(), progress=False)
+    landscape, reused = sweep(grid)
     assert not reused and landscape.grid == grid
-    assert landscape_path(landscape.key) == cache / "landscapes" / f"{landscape.key}.npz"
-    assert landscape_path(landscape.key).exists()
+    assert landscape.path == landscape_path(landscape.key)
+    assert landscape.path == cache / "landscapes" / f"{landscape.key}.npz"
+    assert landscape.path.exists()
     rows = evaluate(grid.points())
     feasible = rows["feasible"].to_numpy() == 1
     np.testing.assert_array_equal(landscape.feasible, feasible)
@@ -102,14 +110,13 @@ def test_the_landscape_holds_what_evaluate_says(cache):
 
 def test_a_matching_file_is_reused_and_other_settings_get_their_own(cache):
     grid = Grid(SMALL, 0.05)
-    first, _ = sweep(grid, Evaluator(), progress=False)
-    again, reused = sweep(grid, Evaluator(), progress=False)
-    assert reused and again.key == first.key
-    other, reused = sweep(grid, Evaluator(body=BodySpec.from_percentile("p95-male")),
-                          progress=False)
+    first, _ = sweep(grid)
+    again, reused = sweep(grid)
+    assert reused and again.key == first.key and again.path == first.path
+    other, reused = sweep(grid, Evaluator(body=BodySpec.from_percentile("p95-male")))
     assert not reused and other.key != first.key
-    assert Landscape.load(landscape_path(other.key)).key == other.key
-    assert Landscape.load(landscape_path(first.key)).key == first.key
+    assert Landscape.load(other.path).key == other.key
+    assert Landscape.load(first.path).key == first.key
     # Every setting that changes a landscape changes its key.
     for changed in (Evaluator(task=TaskSpec(box_mass_kg=8.0)), Evaluator(task=TaskSpec(gaze="off")),
                     Evaluator(solver="pybullet"),
@@ -139,16 +146,18 @@ def test_the_key_follows_the_model_source_code(tmp_path, monkeypatch):
         cache_module.twin_code_version.cache_clear()
 
 
-def test_a_corrupted_file_is_detected_and_recomputed(cache):
+def test_a_corrupted_file_is_detected_and_recomputed(cache, capsys):
     grid = Grid(SMALL, 0.05)
-    good, _ = sweep(grid, Evaluator(), progress=False)
-    out = landscape_path(good.key)
+    good, _ = sweep(grid)
+    out = good.path
     # A file cut short (a copy interrupted, a full disk) cannot be read.
     out.write_bytes(out.read_bytes()[: out.stat().st_size // 2])
     with pytest.raises(LandscapeError, match="not a readable landscape"):
         Landscape.load(out, good.key)
-    again, reused = sweep(grid, Evaluator(), progress=False)
+    capsys.readouterr()
+    again, reused = sweep(grid)
     assert not reused
+    assert "not a readable landscape" in capsys.readouterr().err  # reported, then swept again
     np.testing.assert_array_equal(again.arrays["reba"], good.arrays["reba"])
     # A well-formed file whose numbers were changed fails its checksum.
     with np.load(out) as data:
@@ -158,19 +167,21 @@ def test_a_corrupted_file_is_detected_and_recomputed(cache):
     np.savez_compressed(out, **arrays)
     with pytest.raises(LandscapeError, match="checksum"):
         Landscape.load(out, good.key)
-    assert not sweep(grid, Evaluator(), progress=False)[1]
+    assert not sweep(grid)[1]
 
 
-def test_an_interrupted_sweep_resumes_without_redoing_parts(cache, tmp_path, monkeypatch):
-    monkeypatch.setattr(sweep_module, "PART", 20)
-    grid = Grid(SMALL, 0.05)
+def test_an_interrupted_sweep_resumes_without_redoing_chunks(cache, tmp_path, monkeypatch):
+    grid = Grid(SMALL, 0.05)  # 100 points
     out = landscape_path(landscape_key(Evaluator(), grid))
-    partial, _ = sweep(grid, Evaluator(), progress=False, stop_after_parts=2)
-    assert partial is None and not out.exists()
+    monkeypatch.setattr(sweep_module, "STOP_AFTER_CHUNKS", 2)
+    with pytest.raises(SweepInterrupted):
+        sweep(grid, chunk=20)
+    assert not out.exists()
     parts = out.with_name(out.name + ".parts")
-    assert len(list(parts.glob("part_*.npz"))) == 2
-    resumed, _ = sweep(grid, Evaluator(), progress=False)
-    assert resumed.meta["points_computed"] == grid.size - 40
+    assert len(list(parts.glob("chunk_*.npz"))) == 2
+    monkeypatch.setattr(sweep_module, "STOP_AFTER_CHUNKS", None)
+    resumed, reused = sweep(grid, chunk=30)  # another chunk size: the parts still count
+    assert not reused and resumed.meta["points_computed"] == grid.size - 40
     assert not parts.exists()
     fresh = fresh_sweep(grid, tmp_path, monkeypatch)
     assert fresh.meta["points_computed"] == grid.size
@@ -180,28 +191,28 @@ def test_an_interrupted_sweep_resumes_without_redoing_parts(cache, tmp_path, mon
 
 @pytest.mark.slow
 def test_kill_9_mid_sweep_then_rerun_gives_the_same_file(cache, tmp_path, monkeypatch):
-    monkeypatch.setattr(sweep_module, "PART", 500)
-    grid = Grid(SMALL, 0.01)
+    grid = Grid(SMALL, 0.005)  # 52,111 points: about a second on two processes
     out = landscape_path(landscape_key(Evaluator(), grid))
     script = textwrap.dedent(f"""
-        from ergohandover.landscape import sweep as sweep_module
+        import ergohandover.landscape.sweep as sweep_module
+        from ergohandover.landscape import landscape_of
         from ergohandover.twin.evaluate import Evaluator
         from ergohandover.landscape.grid import Grid
         from ergohandover.twin.task import Boundary
-        sweep_module.PART = 500
-        grid = Grid(Boundary({SMALL.x}, {SMALL.y}, {SMALL.z}), 0.01)
-        sweep_module.sweep(grid, Evaluator(), workers=2, progress=False)
+        sweep_module.CHUNK_POINTS = 500
+        grid = Grid(Boundary({SMALL.x}, {SMALL.y}, {SMALL.z}), 0.005)
+        landscape_of(Evaluator(), grid, workers=2, progress=False)
     """)
     proc = subprocess.Popen([sys.executable, "-c", script])  # inherits the test's cache
     parts = out.with_name(out.name + ".parts")
     deadline = time.time() + 120
-    while len(list(parts.glob("part_*.npz"))) < 2 and time.time() < deadline:
-        time.sleep(0.05)
-    proc.kill()  # SIGKILL: no clean-up runs
+    while len(list(parts.glob("chunk_*.npz"))) < 2 and time.time() < deadline:
+        time.sleep(0.01)
+    proc.kill()  # SIGKILL: no clean-up runs, the lock is left to the OS
     proc.wait()
-    assert not out.exists() and len(list(parts.glob("part_*.npz"))) >= 2
-    resumed, _ = sweep(grid, Evaluator(), progress=False)
-    assert resumed.meta["points_computed"] < grid.size
+    assert not out.exists() and len(list(parts.glob("chunk_*.npz"))) >= 2
+    resumed, reused = sweep(grid)
+    assert not reused and resumed.meta["points_computed"] < grid.size
     fresh = fresh_sweep(grid, tmp_path, monkeypatch)
     for name in fresh.arrays:
         np.testing.assert_array_equal(resumed.arrays[name], fresh.arrays[name], err_msg=name)
@@ -209,13 +220,15 @@ def test_kill_9_mid_sweep_then_rerun_gives_the_same_file(cache, tmp_path, monkey
 
 def test_a_boundary_with_no_feasible_point_is_an_error(cache):
     inside_the_chest = Grid(Boundary((-0.05, 0.05), (1.2, 1.3), (0.0, 0.08)), 0.04)
-    with pytest.raises(LandscapeError, match="no feasible point"):
-        sweep(inside_the_chest, Evaluator(), progress=False)
-    assert not landscape_path(landscape_key(Evaluator(), inside_the_chest)).exists()
+    with pytest.raises(LandscapeError, match="no feasible point") as error:
+        sweep(inside_the_chest)
+    assert "male, 1.756 m, 84.3 kg" in str(error.value) and "\n" not in str(error.value)
+    out = landscape_path(landscape_key(Evaluator(), inside_the_chest))
+    assert not out.exists() and not out.with_name(out.name + ".parts").exists()
 
 
 def test_statistics_find_the_minimum_and_the_most_symmetric_minimiser(cache):
-    landscape, _ = sweep(Grid(SMALL, 0.05), Evaluator(), progress=False)
+    landscape, _ = sweep(Grid(SMALL, 0.05))
     stats = statistics(landscape).set_index("score")
     for score in ("paper_postural", "reba", "rula"):
         values = landscape.arrays[score][landscape.feasible]

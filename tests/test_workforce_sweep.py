@@ -1,6 +1,7 @@
-"""Many workers' landscapes through one executor interface: the local pool and a real local
-Ray instance give the same landscapes (the same as the one-worker sweep), a killed run
-resumes without recomputing finished workers, and bad engines are one-line errors."""
+"""Many workers' landscapes through the door (``landscapes_of``) and one executor interface:
+the local pool and a real local Ray instance give the same landscapes (the same as
+``landscape_of`` of one worker), a killed run resumes without recomputing finished workers, and
+bad engines and chunks are one-line errors."""
 
 from __future__ import annotations
 
@@ -14,10 +15,9 @@ import pytest
 
 from ergohandover.errors import ConfigError
 from ergohandover.executor import LocalExecutor
-from ergohandover.landscape.cache import checksum, landscape_key, landscape_path
+from ergohandover.landscape import landscape_key, landscape_of, landscapes_of
+from ergohandover.landscape.cache import checksum, landscape_path
 from ergohandover.landscape.grid import Grid
-from ergohandover.landscape.sweep import sweep
-from ergohandover.landscape.workforce_sweep import sweep_workforce
 from ergohandover.study.engines import RayExecutor, check_address, make_executor
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import Evaluator
@@ -34,10 +34,11 @@ def cache(tmp_path, monkeypatch):
 
 
 def swept(grid, evaluators, executor, **kwargs) -> dict[int, object]:
-    return {f.index: f for f in sweep_workforce(grid, evaluators, executor, progress=False,
-                                                **kwargs)}
+    return {f.index: f for f in landscapes_of(evaluators, grid, executor=executor,
+                                              progress=False, **kwargs)}
 
 
+@pytest.mark.slow
 def test_ray_and_the_local_pool_give_identical_landscapes_for_two_workers(cache, tmp_path,
                                                                          monkeypatch):
     # Ray is installed with the test extras: this runs on a real local instance.
@@ -56,7 +57,7 @@ def test_ray_and_the_local_pool_give_identical_landscapes_for_two_workers(cache,
                                           err_msg=name)
         # ... and both are what the one-worker sweep writes.
         monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / f"single_{i}"))
-        single, _ = sweep(grid, evaluator, progress=False)
+        single = landscape_of(evaluator, grid, progress=False)
         assert checksum(single.arrays) == checksum(local[i].landscape.arrays)
     # The two workers really differ (a test of identical results needs different inputs).
     assert checksum(local[0].landscape.arrays) != checksum(local[1].landscape.arrays)
@@ -71,19 +72,28 @@ def test_finished_workers_come_from_the_cache(cache):
                                   first[0].landscape.arrays["paper_postural"])
 
 
+def test_the_same_worker_twice_is_swept_once(cache):
+    grid = Grid(SMALL, 0.1)
+    done = swept(grid, [TWO[0], TWO[1], TWO[0]], LocalExecutor(2))
+    assert sorted(done) == [0, 1, 2] and not any(f.reused for f in done.values())
+    assert done[0].landscape is done[2].landscape
+    assert done[0].landscape.meta["points_computed"] == grid.size
+
+
+@pytest.mark.slow
 def test_a_killed_population_sweep_resumes_without_recomputing_finished_workers(cache):
     bodies = [(1.55 + 0.05 * k, 50.0 + 5 * k, "female" if k % 2 else "male") for k in range(6)]
     evaluators = [Evaluator(BodySpec(*b)) for b in bodies]
     grid = Grid(SMALL, 0.04)
     script = textwrap.dedent(f"""
         from ergohandover.landscape.grid import Grid
-        from ergohandover.landscape.workforce_sweep import sweep_workforce
+        from ergohandover.landscape import landscapes_of
         from ergohandover.twin.anthropometry import BodySpec
         from ergohandover.twin.evaluate import Evaluator
         from ergohandover.twin.task import Boundary
         grid = Grid(Boundary({SMALL.x}, {SMALL.y}, {SMALL.z}), 0.04)
         evaluators = [Evaluator(BodySpec(*b)) for b in {bodies}]
-        for _ in sweep_workforce(grid, evaluators, progress=False):
+        for _ in landscapes_of(evaluators, grid, progress=False):
             pass
     """)
     proc = subprocess.Popen([sys.executable, "-c", script])  # inherits the test's cache
@@ -124,5 +134,5 @@ def test_bad_engines_and_addresses_are_one_line_errors():
 
 def test_a_bad_chunk_is_refused_before_any_work(cache):
     with pytest.raises(ValueError, match="chunk = 0 is outside the valid range"):
-        list(sweep_workforce(Grid(SMALL, 0.1), TWO, chunk=0))
+        landscapes_of(TWO, Grid(SMALL, 0.1), chunk=0)
     assert not list(cache.glob("landscapes/*.npz"))

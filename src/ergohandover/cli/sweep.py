@@ -12,17 +12,13 @@ from pathlib import Path
 from ..executor import check_workers
 from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
-from ..landscape.cache import Landscape, landscape_key, landscape_path
+from ..landscape import Landscape, landscapes_of
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..landscape.stats import statistics, write_statistics
-from ..landscape.sweep import sweep
-from ..twin.evaluate import SOLVERS, Evaluator
 from .options import (
-    add_body_arguments,
-    add_task_arguments,
-    body_from_args,
+    add_evaluator_arguments,
+    evaluator_from_args,
     run_folder,
-    task_from_args,
 )
 
 
@@ -37,10 +33,7 @@ def add_parser(subparsers) -> None:
                         "or explicit ranges in metres, worker frame (default: body)")
     parser.add_argument("--step", type=float, default=DEFAULT_STEP, metavar="S",
                         help=f"grid step [m] (default: {DEFAULT_STEP}, the paper's)")
-    add_body_arguments(parser)
-    add_task_arguments(parser)
-    parser.add_argument("--solver", choices=SOLVERS, default="numpy",
-                        help="posture solver (default: numpy)")
+    add_evaluator_arguments(parser)
     parser.add_argument("--output", type=Path, metavar="DIR",
                         help="folder for the statistics, figure and manifest.json (default: a "
                         "new runs/sweep/<timestamp>/); the landscape itself goes to the cache")
@@ -62,31 +55,32 @@ def add_parser(subparsers) -> None:
 
 def run_sweep(args: argparse.Namespace) -> int:
     check_workers(args.workers)
-    body, task = body_from_args(args), task_from_args(args)
-    grid = Grid(parse_boundary(args.boundary, body, task), args.step)
-    evaluator = Evaluator(body, task, args.solver)
-    key = landscape_key(evaluator, grid)
+    evaluator = evaluator_from_args(args)
+    grid = Grid(parse_boundary(args.boundary, evaluator.body, evaluator.task), args.step)
     if args.output is not None and args.output.exists() and not args.output.is_dir():
         raise InputError(f"output = '{args.output}' is a file (expected a directory)")
     print(grid.describe(), file=sys.stderr)
     start = time.perf_counter()
-    landscape, reused = sweep(grid, evaluator, workers=args.workers)
+    # The door that also says whether the landscape was read from the cache (also when another
+    # process swept it while this one waited) or computed here.
+    [finished] = landscapes_of([evaluator], grid, workers=args.workers)
+    landscape, reused = finished.landscape, finished.reused
     elapsed = time.perf_counter() - start
     rate = None
     if reused:
-        print(f"reusing {landscape_path(key)} (same body, task, boundary, step, settings and "
+        print(f"reusing {landscape.path} (same body, task, boundary, step, settings and "
               "model code)", file=sys.stderr)
     else:
         rate = landscape.meta["points_computed"] / max(landscape.meta["seconds"], 1e-9)
         print(f"swept {grid.size:,} points in {elapsed:.1f} s ({rate:,.0f} points/s computed "
-              f"this run) -> {landscape_path(key)}", file=sys.stderr)
+              f"this run) -> {landscape.path}", file=sys.stderr)
     folder = args.output or run_folder("sweep")
     folder.mkdir(parents=True, exist_ok=True)
     paths = report(landscape, folder)
     write_manifest(folder, config={"evaluator": dataclasses.asdict(evaluator),
-                                   "grid": dataclasses.asdict(grid), "key": key},
+                                   "grid": dataclasses.asdict(grid), "key": landscape.key},
                    seeds={}, wall_time_s=elapsed,
-                   extra={"landscape": str(landscape_path(key)), "reused": reused,
+                   extra={"landscape": str(landscape.path), "reused": reused,
                           "points_per_s": None if rate is None else round(rate, 1),
                           "outputs": [str(p) for p in paths]})
     return 0

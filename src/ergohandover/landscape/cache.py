@@ -7,6 +7,9 @@ be answered from a stale file. Files live in :func:`cache_dir` (``$ERGOHANDOVER_
 ``$XDG_CACHE_HOME/ergohandover``, else ``~/.cache/ergohandover``) as
 ``landscapes/<key>.npz``; each is written atomically and carries a checksum of its arrays, so a
 file that is half-written, corrupted or made with other settings is detected, never read.
+
+This module only names and reads files; getting a landscape (from here, or swept into here under
+a lock) is :mod:`~ergohandover.landscape.store`'s job, the one door every caller uses.
 """
 
 from __future__ import annotations
@@ -37,7 +40,8 @@ class LandscapeError(ErgohandoverError, ValueError):
 
 
 def cache_dir() -> Path:
-    """Where landscapes are cached (created on first write)."""
+    """Where landscapes are cached (created on first write); only this package looks here,
+    every other module goes through :mod:`~ergohandover.landscape.store`."""
     if os.environ.get("ERGOHANDOVER_CACHE"):
         return Path(os.environ["ERGOHANDOVER_CACHE"])
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
@@ -64,7 +68,8 @@ def landscape_key(evaluator: Evaluator, grid: Grid) -> str:
 
 
 def landscape_path(key: str) -> Path:
-    """The cache file of the landscape with ``key``."""
+    """The cache file of the landscape with ``key`` (callers outside this package read a
+    landscape's own ``path``)."""
     return cache_dir() / "landscapes" / f"{key}.npz"
 
 
@@ -84,30 +89,38 @@ class Landscape:
     ``arrays``: ``flags`` (uint8 bit mask of :data:`~ergohandover.twin.evaluate.REASONS`,
     0 = feasible), each score of :data:`~ergohandover.landscape.sweep.SCORES` as int8 (-1 where
     infeasible) and each of :data:`~ergohandover.landscape.sweep.ANGLES` as float32 [deg, m].
+    ``path`` is the file it was loaded from or last saved to (None for one made in memory), so
+    that a caller can name the cache file without computing where it is.
     """
 
     grid: Grid
     key: str
     arrays: dict[str, np.ndarray]
     meta: dict
+    path: Path | None = dataclasses.field(default=None, compare=False)
 
     @property
     def feasible(self) -> np.ndarray:
         return self.arrays["flags"] == 0
 
     def save(self, path: Path) -> Path:
-        """Write the landscape (atomically) with its key, grid and checksum."""
+        """Write the landscape (atomically) with its key, grid and checksum; sets ``path``."""
+        path = Path(path)
         meta = {**self.meta, "key": self.key, "checksum": checksum(self.arrays),
                 "grid": dataclasses.asdict(self.grid)}
         path.parent.mkdir(parents=True, exist_ok=True)
         # Uncompressed: zlib took 7 s of a 2-minute sweep for a third off the size of a file
         # that is a cache, never committed.
-        return atomic_write(path, lambda h: np.savez(
+        self.path = atomic_write(path, lambda h: np.savez(
             h, meta=np.array(json.dumps(meta)), **self.arrays), binary=True)
+        return self.path
 
     @classmethod
     def load(cls, path: Path, key: str | None = None) -> Landscape:
-        """Read and verify a landscape; LandscapeError if unreadable, corrupted or mismatched."""
+        """Read and verify a landscape file (any file: a user's, or the cache's through
+        :mod:`~ergohandover.landscape.store`); LandscapeError if unreadable, corrupted or
+        mismatched."""
+        path = Path(path)
         try:
             with np.load(path) as data:
                 meta = json.loads(str(data["meta"]))
@@ -125,4 +138,4 @@ class Landscape:
         g = meta["grid"]
         grid = Grid(Boundary(tuple(g["boundary"]["x"]), tuple(g["boundary"]["y"]),
                              tuple(g["boundary"]["z"]), g["boundary"]["name"]), g["step"])
-        return cls(grid, meta["key"], arrays, meta)
+        return cls(grid, meta["key"], arrays, meta, path)
