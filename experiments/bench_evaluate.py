@@ -64,13 +64,13 @@ def main() -> None:
           f"{time.perf_counter() - start:.2f} s, once per process tree")
 
     start = time.perf_counter()
-    table = evaluate(locations, body, task, workers=1)
+    table = evaluate(locations, Evaluator(body, task), workers=1)
     elapsed = time.perf_counter() - start
     single = len(locations) / elapsed
     print(f"1 process:  {_rate(len(locations), elapsed)} "
           "(solve + angles + REBA/RULA/paper scores)")
     start = time.perf_counter()
-    evaluate(locations, body, task, workers=args.workers)
+    evaluate(locations, Evaluator(body, task), workers=args.workers)
     elapsed = time.perf_counter() - start
     rate = len(locations) / elapsed
     print(f"{args.workers} processes: {_rate(len(locations), elapsed)}")

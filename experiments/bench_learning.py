@@ -27,11 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from ergohandover.envs import HandoverEnv, LandscapeScores, OnlineScores
-from ergohandover.landscape.cache import Landscape, landscape_key, landscape_path
+from ergohandover.landscape import Landscape, cached_landscape, landscape_of
 from ergohandover.landscape.grid import DEFAULT_STEP, Grid
-from ergohandover.landscape.sweep import sweep
+from ergohandover.learning.agents import run_agent
 from ergohandover.learning.qlearning import run_qlearning
-from ergohandover.learning.runner import run_agent
 from ergohandover.learning.search import exhaustive, run_hillclimb, run_random, run_randomwalk
 from ergohandover.learning.trace import Budget
 from ergohandover.twin.evaluate import Evaluator
@@ -46,14 +45,13 @@ def find_landscape(given: Path | None) -> Path:
     if given is not None:
         return given
     full = Grid(Boundary.paper_code(), DEFAULT_STEP)
-    path = landscape_path(landscape_key(Evaluator(), full))
-    if path.exists():
-        return path
+    found = cached_landscape(Evaluator(), full)
+    if found is not None:
+        return found.path
     coarse = Grid(Boundary.paper_code(), COARSE_STEP)
     print(f"no paper-code landscape in the cache: building a coarse one ({coarse.describe()})",
           file=sys.stderr)
-    sweep(coarse, Evaluator(), workers=2)
-    return landscape_path(landscape_key(Evaluator(), coarse))
+    return landscape_of(Evaluator(), coarse, workers=2).path
 
 
 def gym_steps_per_s(env: HandoverEnv, steps: int) -> float:

@@ -1,4 +1,4 @@
-"""Render the default worker at five representative box locations for the README.
+"""Render the default worker at five representative box locations for docs/report.md.
 
 Usage: python experiments/render_examples.py [--out docs/img]
 
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ergohandover.cli.evaluate import render_points
 from ergohandover.io.atomic import atomic_write_csv
+from ergohandover.scene.render import render_points
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import EVALUATION_COLUMNS, Evaluator, evaluate
 from ergohandover.twin.task import TaskSpec
@@ -41,11 +41,12 @@ def main() -> None:
     body, task = BodySpec(), TaskSpec()
     named = examples(body)
     points = np.array(list(named.values()))
-    table = evaluate(points, body, task, joints=True)
+    evaluator = Evaluator(body, task)
+    table = evaluate(points, evaluator, joints=True)
     table.insert(0, "name", list(named))
     args.out.mkdir(parents=True, exist_ok=True)
     atomic_write_csv(table[["name", *EVALUATION_COLUMNS]], args.out / "twin_examples.csv")
-    render_points(table, points, Evaluator(body, task), args.out)
+    render_points(table, points, evaluator, args.out)
     for i, name in enumerate(named, start=1):
         (args.out / f"point_{i:04d}.png").replace(args.out / f"twin_{name}.png")
     print(table[["name", "x", "y", "z", "feasible", "trunk_flexion", "left_knee_flexion",

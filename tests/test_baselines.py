@@ -12,10 +12,9 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from ergohandover.cli import main
-from ergohandover.landscape.cache import landscape_path
+from ergohandover.landscape import landscape_of
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimisers
-from ergohandover.landscape.sweep import sweep
 from ergohandover.study.baselines import PAPER_STARTS, optimised, paper_result, shortest_distance
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
@@ -79,8 +78,8 @@ def test_the_paper_starts_clip_to_the_paper_code_boundary():
 
 @pytest.fixture(scope="module")
 def tiny_landscape():
-    landscape, _ = sweep(Grid(TINY, 0.05), Evaluator(), progress=False)
-    return landscape, landscape_path(landscape.key)
+    landscape = landscape_of(Evaluator(), Grid(TINY, 0.05), progress=False)
+    return landscape, landscape.path
 
 
 def test_optimised_is_a_most_symmetric_minimiser_of_the_score(tiny_landscape):
@@ -115,6 +114,7 @@ def test_a_landscape_for_another_worker_is_refused(capsys, tiny_landscape, tmp_p
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_baseline_writes_csv_markdown_manifest_paths_and_pictures(capsys, tiny_landscape,
                                                                   tmp_path):
     landscape, path = tiny_landscape
@@ -157,6 +157,7 @@ def test_baseline_writes_csv_markdown_manifest_paths_and_pictures(capsys, tiny_l
         assert first.base_yaw == pytest.approx(np.pi)
 
 
+@pytest.mark.slow
 def test_a_negative_start_is_taken_as_typed(capsys, tiny_landscape, tmp_path):
     _, path = tiny_landscape
     out = tmp_path / "b.csv"

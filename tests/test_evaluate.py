@@ -25,8 +25,9 @@ SEG = BODY.segments()
 ELBOW_HEIGHT = SEG.shoulder_height - SEG.upper_arm_length
 
 
-def one(x: float, y: float, z: float, **kw) -> pd.Series:
-    return evaluate(np.array([[x, y, z]]), **kw).iloc[0]
+def one(x: float, y: float, z: float, **parts) -> pd.Series:
+    """The row of one location; ``parts``: the Evaluator's (body, task, ...)."""
+    return evaluate(np.array([[x, y, z]]), Evaluator(**parts)).iloc[0]
 
 
 def test_a_box_at_knee_height_makes_the_worker_stoop_or_squat():
@@ -164,7 +165,8 @@ def test_a_smaller_worker_reaches_less_far():
 
 
 def test_pybullet_ik_converges_on_reachable_locations():
-    table = evaluate(np.array([[0.0, ELBOW_HEIGHT, 0.35], [0.1, 1.2, 0.45]]), solver="pybullet")
+    table = evaluate(np.array([[0.0, ELBOW_HEIGHT, 0.35], [0.1, 1.2, 0.45]]),
+                     Evaluator(solver="pybullet"))
     assert (table["hand_error_m"] < 0.01).all()
 
 
@@ -174,4 +176,6 @@ def test_bad_locations_are_rejected():
     with pytest.raises(EvaluationError, match="row 2 is not finite"):
         evaluate(np.array([[0, 1, 0.4], [0, np.nan, 0.4]]))
     with pytest.raises(EvaluationError, match="solver = 'unity'"):
-        evaluate(np.zeros((1, 3)), solver="unity")
+        evaluate(np.zeros((1, 3)), Evaluator(solver="unity"))
+    with pytest.raises(EvaluationError, match="is not an Evaluator"):
+        evaluate(np.zeros((1, 3)), BodySpec())

@@ -21,8 +21,8 @@ from ergohandover.envs import (
     register,
 )
 from ergohandover.envs.handover_env import INFEASIBLE_REWARD, symmetry_term
+from ergohandover.landscape import landscape_of
 from ergohandover.landscape.grid import Grid
-from ergohandover.landscape.sweep import sweep
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
@@ -151,7 +151,7 @@ SMALL = Boundary((-0.10, 0.10), (0.90, 1.20), (0.15, 0.75))  # 5 x 7 x 13, 17% i
 
 @pytest.fixture(scope="module")
 def small_landscape():
-    return sweep(Grid(SMALL, 0.05), Evaluator(), progress=False)[0]
+    return landscape_of(Evaluator(), Grid(SMALL, 0.05), progress=False)
 
 
 @pytest.mark.parametrize("objective", ["paper_postural", "reba", "reba_ab", "rula"])

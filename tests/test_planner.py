@@ -31,6 +31,7 @@ def box_touches_worker(world: World, location) -> bool:
     return touches(world.p, world.box.body_id, world.worker.body_id, world.client)
 
 
+@pytest.mark.slow
 def test_a_carry_blocked_by_the_worker_goes_around_it(detour):
     with World() as world:
         world.pose_worker(None)
@@ -67,6 +68,7 @@ def test_a_start_out_of_reach_is_a_reason_not_a_path():
     assert plan.reason.startswith("unreachable_handover: robot_ik")
 
 
+@pytest.mark.slow
 def test_planning_is_deterministic_for_a_seed():
     # The short carry and one that must leave the line (planned or not within the budget,
     # it is the same answer every time).

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ergohandover.landscape import landscape_of
 from ergohandover.landscape.cache import landscape_key
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimisers, optimum
-from ergohandover.landscape.sweep import sweep
 from ergohandover.study.sensitivity import OBJECTIVES, Variant, sensitivity_row, variants
 from ergohandover.twin.evaluate import EvaluationError, Evaluator, evaluate_arrays, posture_solver
 from ergohandover.twin.solver import SolverSettings, SolverSettingsError
@@ -81,7 +81,7 @@ def test_the_trunk_relative_to_the_pelvis_is_smaller_when_the_hips_flex():
 def test_a_row_reports_the_landscapes_minima_optimum_and_the_conclusion():
     grid = Grid(SMALL, 0.05)
     base = Evaluator()
-    landscape, _ = sweep(grid, base, progress=False)
+    landscape = landscape_of(base, grid, progress=False)
     row = sensitivity_row(Variant("default", "default"), landscape, base, None)
     for score in OBJECTIVES:
         cells = minimisers(landscape, score)
@@ -94,7 +94,7 @@ def test_a_row_reports_the_landscapes_minima_optimum_and_the_conclusion():
     assert row["conclusion_holds"] == (row["best_shortest_distance_paper_postural"]
                                        > row["optimum_paper_postural"])
     off = Evaluator(task=TaskSpec(gaze="off"))
-    other, _ = sweep(grid, off, progress=False)
+    other = landscape_of(off, grid, progress=False)
     shifted = sensitivity_row(Variant("gaze", "gaze off"), other, off, best)
     moved = np.array([shifted["optimum_x"], shifted["optimum_y"], shifted["optimum_z"]]) - best
     assert shifted["shift_cm"] == pytest.approx(np.linalg.norm(moved) * 100)

@@ -13,25 +13,19 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from ..executor import check_workers
 from ..io.atomic import atomic_write, atomic_write_csv
 from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
-from ..landscape.cache import Landscape, landscape_key, landscape_path
+from ..landscape.cache import Landscape, landscape_key
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
-from ..landscape.sweep import sweep
+from ..landscape.store import landscape_of
 from ..scene.robot import RobotSpec, RobotSpecError
-from ..study.baselines import PAPER_STARTS, compare
+from ..study.baseline_outputs import render, write_paths
+from ..study.baselines import PAPER_STARTS, compare, markdown_table
 from ..twin.evaluate import Evaluator
-from .options import (
-    add_body_arguments,
-    add_task_arguments,
-    body_from_args,
-    run_folder,
-    task_from_args,
-)
+from .options import add_evaluator_arguments, evaluator_from_args, run_folder
 
 START = "three finite numbers X,Y,Z in metres, worker frame"
 ROBOT_FLAGS = {"distance": "robot-distance", "drive_range": "robot-drive",
@@ -62,8 +56,7 @@ def add_parser(subparsers) -> None:
                         help="handover boundary (default: the landscape's, else paper-code)")
     parser.add_argument("--step", type=float, metavar="S",
                         help=f"grid step [m] (default: the landscape's, else {DEFAULT_STEP})")
-    add_body_arguments(parser)
-    add_task_arguments(parser)
+    add_evaluator_arguments(parser, solver=False)
     parser.add_argument("--landscape", type=Path, metavar="FILE",
                         help="a landscape .npz (default: the matching one from the landscape "
                         "cache, swept into it when missing)")
@@ -111,7 +104,8 @@ def parse_start(text: str) -> np.ndarray:
 
 
 def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
-    """The given landscape (checked against the flags) or the cached/swept one."""
+    """The given landscape (checked against the flags), or the landscape door's (from the
+    cache, swept into it when missing)."""
     body, task = evaluator.body, evaluator.task
     if args.landscape is not None:
         landscape = Landscape.load(args.landscape)
@@ -126,37 +120,10 @@ def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
         return landscape, args.landscape
     grid = Grid(parse_boundary(args.boundary or "paper-code", body, task),
                 args.step or DEFAULT_STEP)
-    output = landscape_path(landscape_key(evaluator, grid))
-    print(f"landscape: {grid.describe()} -> {output}", file=sys.stderr)
-    landscape, _ = sweep(grid, evaluator, workers=args.workers)
-    return landscape, output
-
-
-def _cell(value, digits: int = 3) -> str:
-    return "–" if pd.isna(value) else f"{value:.{digits}f}" if isinstance(value, float) \
-        else str(value)
-
-
-def markdown_table(table: pd.DataFrame) -> str:
-    """One line per start: each method's location, scores (ours, the paper's) and robot."""
-    head = ["start (x, y, z) [m]"]
-    for method in ("optimised", "shortest distance"):
-        head += [f"{method} (x, y, z) [m]", "postural: ours (paper)", "REBA", "RULA", "robot"]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for _, group in table.groupby(["start_x", "start_y", "start_z"], sort=False):
-        first = group.iloc[0]
-        cells = [f"({first.start_x:.3f}, {first.start_y:.3f}, {first.start_z:.3f})"]
-        for _, row in group.iterrows():
-            ours = _cell(row.paper_postural) if row.feasible else f"infeasible ({row.reason})"
-            paper = "" if pd.isna(row.paper_postural_paper) else \
-                f" ({int(row.paper_postural_paper)})"
-            robot = (f"yes: {row.path_length_m:.2f} m, {row.waypoints} waypoints, clearance "
-                     f"{100 * row.clearance_m:.1f} cm, {row.planning_s:.1f} s"
-                     if row.robot_feasible else f"no: {row.robot_reason}")
-            cells += [f"({row.x:.3f}, {row.y:.3f}, {row.z:.3f})", ours + paper,
-                      _cell(row.reba), _cell(row.rula), robot]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+    print(f"landscape: {grid.describe()}", file=sys.stderr)
+    landscape = landscape_of(evaluator, grid, workers=args.workers)
+    print(f"landscape: {landscape.path}", file=sys.stderr)
+    return landscape, landscape.path
 
 
 def run(args: argparse.Namespace) -> int:
@@ -172,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
     except RobotSpecError as exc:
         field = str(exc).split(" = ")[0]
         raise InputError(str(exc).replace(field, ROBOT_FLAGS.get(field, field), 1)) from None
-    evaluator = Evaluator(body_from_args(args), task_from_args(args))
+    evaluator = evaluator_from_args(args)
     if args.output is not None and not args.output.parent.is_dir():
         raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
                          "not exist")
@@ -194,62 +161,3 @@ def run(args: argparse.Namespace) -> int:
     print(markdown, end="")
     print(f"wrote {output}, {md_path}", file=sys.stderr)
     return 0
-
-
-def write_paths(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
-    """A path CSV per planned carry (``start<i>_<method>.csv``, see
-    :func:`~..scene.carries.path_table`)."""
-    from ..scene.carries import path_table
-    from ..scene.world import World
-
-    folder.mkdir(parents=True, exist_ok=True)
-    written = []
-    with World(evaluator.body, evaluator.task, robot) as world:
-        for i, (row, plan) in enumerate(zip(result.table.to_dict("records"), result.plans,
-                                            strict=True)):
-            if plan.ok:
-                name = f"start{i // 2 + 1}_{row['method']}.csv"
-                written.append(atomic_write_csv(path_table(world, plan), folder / name))
-    print(f"wrote {len(written)} path files into {folder}", file=sys.stderr)
-    return written
-
-
-def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
-    """A PNG per row (the robot at the handover: the carry's last pose, else the best hold it
-    finds there), a contact sheet of them and a GIF per planned carry."""
-    from ..scene.render import save_png
-    from ..scene.scene_render import (
-        SceneRenderer,
-        baseline_caption,
-        carry_gif,
-        contact_sheet,
-        short_label,
-    )
-    from ..scene.world import World
-
-    folder.mkdir(parents=True, exist_ok=True)
-    paths, gifs, cells = [], [], []
-    with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
-        world = renderer.world
-        rows = result.table.to_dict("records")
-        for i, (row, plan, posture) in enumerate(zip(rows, result.plans, result.postures,
-                                                     strict=True)):
-            location = np.array([row["x"], row["y"], row["z"]])
-            if plan.ok:
-                last = plan.waypoints[-1]
-                arms, lift = last.q, last.lift
-            else:  # the hold found at the location on its own, else the lowest lift's try
-                reach, lift = world.hold_at_some_lift(location, posture)
-                arms = reach.q
-            renderer.pose(location, arms, posture, lift)
-            views = renderer.views()
-            name = f"start{i // 2 + 1}_{row['method']}"
-            paths.append(save_png(views, baseline_caption(row), folder / f"{name}.png"))
-            cells.append((views, short_label(row, i // 2 + 1)))
-            if plan.ok:
-                gifs.append(carry_gif(renderer, plan, posture, folder / f"{name}.gif"))
-        sheet = contact_sheet(cells, folder / "baseline_sheet.png")
-    print(f"wrote {len(paths)} pictures, {sheet.name} and {len(gifs)} GIFs into {folder}",
-          file=sys.stderr)
-    return [*paths, sheet, *gifs]
-

@@ -13,27 +13,16 @@ from tqdm import tqdm
 from ..executor import check_workers
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
-from ..twin.evaluate import (
-    EVALUATION_COLUMNS,
-    SOLVERS,
-    Evaluator,
-    evaluate,
-    joint_angles,
-    posture_solver,
-)
-from .options import (
-    add_body_arguments,
-    add_task_arguments,
-    body_from_args,
-    run_folder,
-    task_from_args,
-)
+from ..scene.render import render_points
+from ..twin.evaluate import EVALUATION_COLUMNS, evaluate
+from .options import add_evaluator_arguments, evaluator_from_args, run_folder
 
 DESCRIPTION = """\
 Evaluate box locations: for each row of --points (columns x, y, z: the box centre in the worker
 frame, metres; x to the worker's right, y up, z forward) the twin grips both handles; its
 posture, feasibility (hand_miss, box_collision, unbalanced) and every score are written to
---output (DESIGN.md's Evaluation CSV; scores are empty where infeasible)."""
+--output (the Evaluation CSV, whose columns docs/architecture.md lists; scores are empty where
+infeasible)."""
 
 LOCATION = "a finite coordinate in metres"
 
@@ -47,11 +36,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--output", metavar="CSV",
                         help="Evaluation CSV to write (atomically), or - for standard output "
                         "(default: runs/evaluate/<timestamp>/evaluation.csv)")
-    add_body_arguments(parser)
-    add_task_arguments(parser)
-    parser.add_argument("--solver", choices=SOLVERS, default="numpy",
-                        help="numpy: the whole-body solver (balance, gaze, palms; compiled); "
-                        "pybullet: PyBullet's IK on the hands only (default: numpy)")
+    add_evaluator_arguments(parser)
     parser.add_argument("--render", metavar="DIR", type=Path,
                         help="also write one PNG per point into DIR (created if needed)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
@@ -76,39 +61,20 @@ def read_points(source: str) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     check_workers(args.workers)
-    body, task = body_from_args(args), task_from_args(args)
+    evaluator = evaluator_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:
-        table = evaluate(points, body, task, solver=args.solver, workers=args.workers,
-                         progress=bar.update, joints=args.render is not None)
+        table = evaluate(points, evaluator, workers=args.workers, progress=bar.update,
+                         joints=args.render is not None)
     output = args.output or str(run_folder("evaluate") / "evaluation.csv")
     if output == "-":
         table[list(EVALUATION_COLUMNS)].to_csv(sys.stdout, index=False)
     else:
         atomic_write_csv(table[list(EVALUATION_COLUMNS)], output)
     if args.render:
-        render_points(table, points, Evaluator(body, task, args.solver), args.render)
+        render_points(table, points, evaluator, args.render)
     feasible = int(table["feasible"].sum())
     print(f"evaluated {len(table)} locations ({feasible} feasible)"
           + ("" if output == "-" else f" -> {output}"), file=sys.stderr)
     return 0
-
-
-def render_points(table, points: np.ndarray, evaluator: Evaluator, folder: Path) -> None:
-    """One PNG per point: the twin in the posture of its row (``table`` has the joint columns
-    of ``evaluate(..., joints=True)``)."""
-    from ..scene.render import Renderer, caption_lines, save_png
-
-    folder.mkdir(parents=True, exist_ok=True)
-    names = posture_solver(evaluator).model.joint_names
-    q = joint_angles(table)
-    renderer = Renderer(evaluator.body, evaluator.task)
-    try:
-        for i in tqdm(range(len(points)), desc="render", unit="png", file=sys.stderr,
-                      disable=len(points) < 5):
-            renderer.pose(names, q[i], points[i])
-            save_png(renderer.views(), caption_lines(table.iloc[i]),
-                     folder / f"point_{i + 1:04d}.png")
-    finally:
-        renderer.close()

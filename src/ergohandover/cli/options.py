@@ -95,6 +95,37 @@ def task_flags_given(args: argparse.Namespace) -> list[str]:
             if getattr(args, f.name, None) is not None]
 
 
+def add_evaluator_arguments(parser: argparse.ArgumentParser, solver: bool = True) -> None:
+    """The worker, the task, the trunk-angle reference and (``solver``) the posture solver:
+    everything an :class:`~ergohandover.twin.evaluate.Evaluator` is built from."""
+    from ..twin.evaluate import SOLVERS, TRUNK_REFERENCES
+
+    add_body_arguments(parser)
+    add_task_arguments(parser)
+    group = parser.add_argument_group("model")
+    if solver:
+        group.add_argument("--solver", choices=(*SOLVERS, "numpy"), default="whole-body",
+                           help="whole-body: the twin's own solver (balance, gaze, palms; "
+                           "compiled); pybullet: PyBullet's IK on the hands only; numpy is the "
+                           "former name of whole-body (default: whole-body)")
+    group.add_argument("--trunk-reference", choices=TRUNK_REFERENCES, default="vertical",
+                       help="trunk flexion and side bend from vertical (the worksheets') or "
+                       "relative to the pelvis (default: vertical)")
+
+
+def evaluator_from_args(args: argparse.Namespace):
+    """The Evaluator the flags describe (see :func:`add_evaluator_arguments`)."""
+    import sys
+
+    from ..twin.evaluate import Evaluator
+
+    solver = getattr(args, "solver", "whole-body")
+    if solver == "numpy":
+        print("note: --solver numpy is the former name of --solver whole-body", file=sys.stderr)
+    return Evaluator(body_from_args(args), task_from_args(args), solver,
+                     trunk_reference=args.trunk_reference)
+
+
 RUNS = Path("runs")
 """Where commands write by default (ignored by git): ``runs/<command>/<timestamp>/``. The study's
 ``results/`` and ``paper_figs/`` are written only by the study scripts."""

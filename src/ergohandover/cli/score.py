@@ -15,7 +15,8 @@ from .options import add_dataclass_arguments, dataclass_from_args, run_folder
 DESCRIPTION = """\
 Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1993) and the
 paper's additive postural score. Reads a Posture CSV (one posture per row, angles in degrees,
-flexion +; see README "Scoring postures"); writes its columns followed by every score column.
+flexion +; see docs/report.md, "Scoring postures"); writes its columns followed by every score
+column.
 Optional columns default: load_kg, shock, coupling, activity, muscle_use, *_arm_supported and
 *_arm_across_midline 0; bilateral_support 1; hands_above_neck 0."""
 

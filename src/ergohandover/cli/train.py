@@ -12,24 +12,24 @@ from pathlib import Path
 from tqdm import tqdm
 
 from ..io.csv_input import InputError
-from ..landscape.cache import Landscape, landscape_key, landscape_path
+from ..landscape.cache import Landscape
 from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
-from ..learning.runner import AGENTS, TEMPERATURES, run_agent
-from ..twin.evaluate import Evaluator
+from ..landscape.store import cached_landscape
+from ..learning.agents import AGENTS, agent, run_agent
+from ..learning.qlearning import TEMPERATURES
 from .options import (
-    add_body_arguments,
-    add_task_arguments,
-    body_from_args,
+    add_evaluator_arguments,
+    evaluator_from_args,
     run_folder,
     task_flags_given,
-    task_from_args,
 )
 
 DESCRIPTION = """\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
-paper's: alpha 0.1, gamma 0.9, Q = 0, softmax with temperature 0.7), DQN (stable-baselines3),
-a random walk (the learner's moves and restarts, no learning), uniform random search or
-hill-climbing with random restarts, until a wall-clock or step cap.
+paper's: alpha 0.1, gamma 0.9, Q = 0, softmax with temperature 0.7; qlearning-adaptive: the
+paper's text's adaptive temperature), DQN (stable-baselines3), a random walk (the learner's
+moves and restarts, no learning), uniform random search or hill-climbing with random restarts,
+until a wall-clock or step cap.
 Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
 --boundary/--step for this worker was swept before (`ergohandover sweep`), else they are computed
 online (memoised). Writes trace.csv (time_s, step, best score and
@@ -53,11 +53,13 @@ def add_parser(subparsers) -> None:
                         metavar="paper_postural|reba|reba_ab|rula",
                         help="score to minimise (default: paper_postural, the paper's)")
     parser.add_argument("--temperature", default="fixed", metavar="fixed|adaptive",
-                        help="Q-learning softmax temperature: fixed 0.7 (the published code) or "
-                        "adaptive (the paper's text; bounded 0.1-2.0) (default: fixed)")
+                        help="with --agent qlearning: fixed 0.7 (the published code) or adaptive "
+                        "(the paper's text; bounded 0.1-2.0), the same as --agent "
+                        "qlearning-adaptive (default: fixed)")
     parser.add_argument("--target", default="4", metavar="E",
-                        help="episode ends when the score is at most E (default: 4, the paper's;"
-                        " our twin's minimum is 5, so 4 never ends an episode)")
+                        help="with --episode-end paper: the episode ends when the score is at "
+                        "most E (default: 4, the paper's and, on the default grid, the twin's "
+                        "minimum too)")
     parser.add_argument("--episode-end", default="paper", metavar="paper|none",
                         help="paper: at the target; none: only by truncation (default: paper)")
     parser.add_argument("--episode-steps", default="10000", metavar="N",
@@ -72,8 +74,7 @@ def add_parser(subparsers) -> None:
                         "learner's, so online and landscape runs solve the same problem)")
     parser.add_argument("--step", metavar="S",
                         help=f"online grid step [m] (default: {DEFAULT_STEP})")
-    add_body_arguments(parser)
-    add_task_arguments(parser)
+    add_evaluator_arguments(parser, solver=False)
     parser.add_argument("--output", type=Path, metavar="DIR",
                         help="result directory (default: a new runs/train/<timestamp>/)")
     parser.set_defaults(run=run)
@@ -108,13 +109,18 @@ def parse(args: argparse.Namespace) -> dict:
     if (args.time_cap is None) == (args.steps is None):
         raise InputError("give exactly one of --time-cap S or --steps N (got "
                          f"{'neither' if args.time_cap is None else 'both'})")
+    name = _choice("agent", args.agent, AGENTS)
+    if _choice("temperature", args.temperature, TEMPERATURES) == "adaptive":
+        if agent(name).temperature is None:
+            raise InputError(f"temperature = 'adaptive' is not allowed with agent = {name!r} "
+                             "(Q-learning's only: use --agent qlearning)")
+        name = "qlearning-adaptive"
     config = {
-        "agent": _choice("agent", args.agent, AGENTS),
+        "agent": name,
         "time_cap_s": _number("time-cap", args.time_cap, float, 0, strict=True),
         "steps": _number("steps", args.steps, int, 1),
         "seed": _number("seed", args.seed, int, 0),
         "objective": _choice("objective", args.objective, OBJECTIVES),
-        "temperature": _choice("temperature", args.temperature, TEMPERATURES),
         "target": _number("target", args.target, float, 0),
         "episode_end": _choice("episode-end", args.episode_end, EPISODE_ENDS),
         "episode_steps": _number("episode-steps", args.episode_steps, int, 1),
@@ -124,6 +130,7 @@ def parse(args: argparse.Namespace) -> dict:
         given = [f"--{f}" for f, v in (("boundary", args.boundary), ("step", args.step),
                                       ("percentile", args.percentile), ("stature", args.stature),
                                       ("mass", args.mass), ("sex", args.sex)) if v is not None]
+        given += ["--trunk-reference"] * (args.trunk_reference != "vertical")
         given += task_flags_given(args)
         if given:
             raise InputError(f"{given[0]} cannot be used with --landscape (the landscape fixes "
@@ -140,23 +147,22 @@ def build_env(config: dict, args: argparse.Namespace):
     """The env and what it was built from (landscape or online evaluator and grid)."""
     from ..envs import HandoverEnv, LandscapeScores, OnlineScores
 
-    landscape, path = None, config["landscape"]
-    if path is None:  # the landscape cache holds this grid's landscape if it was swept before
-        body, task = body_from_args(args), task_from_args(args)
-        grid = Grid(parse_boundary(config["boundary"], body, task), config["step"])
-        evaluator = Evaluator(body, task)
-        cached = landscape_path(landscape_key(evaluator, grid))
-        path = cached if cached.exists() else None
-    if path is not None:
-        landscape = Landscape.load(path)
+    if config["landscape"] is not None:
+        landscape = Landscape.load(config["landscape"])
+    else:  # the landscape cache holds this grid's landscape if it was swept before
+        evaluator = evaluator_from_args(args)
+        grid = Grid(parse_boundary(config["boundary"], evaluator.body, evaluator.task),
+                    config["step"])
+        landscape = cached_landscape(evaluator, grid)
+    if landscape is not None:
         scores = LandscapeScores(landscape, config["objective"])
-        source = {"landscape": str(path), "landscape_key": landscape.key}
+        source = {"landscape": str(landscape.path), "landscape_key": landscape.key}
     else:
         # Random search jumps anywhere: prefetching a cube of neighbours would be waste.
         scores = OnlineScores(grid, evaluator, config["objective"],
                               block=1 if config["agent"] == "random" else 4)
         source = {"evaluator": dataclasses.asdict(evaluator)}
-    env = HandoverEnv(scores, observation="position" if config["agent"] == "dqn" else "indices",
+    env = HandoverEnv(scores, observation=agent(config["agent"]).observation,
                       episode_end=config["episode_end"], target=config["target"])
     source["grid"] = dataclasses.asdict(scores.grid)
     return env, landscape, source
@@ -188,7 +194,7 @@ def run(args: argparse.Namespace) -> int:
 
         result, agent_config = run_agent(
             config["agent"], env, Budget(config["time_cap_s"], config["steps"]),
-            config["seed"], config["temperature"], config["episode_steps"], progress)
+            config["seed"], config["episode_steps"], progress)
     output = args.output or run_folder("train")
     from ..learning.search import exhaustive
     from ..learning.trace import write_result

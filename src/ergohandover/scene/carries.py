@@ -25,7 +25,8 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from ..executor import LocalExecutor
+from ..errors import ConfigError
+from ..executor import Executor, LocalExecutor
 from ..frames import rotation_to_worker
 from ..sim import connect_direct
 from ..sim import pybullet as _pybullet
@@ -55,20 +56,26 @@ def plan_seeds(seed: int, count: int) -> list[int]:
 
 
 def plan_carries(jobs: Sequence[CarryJob], body=None, task=None, robot=None, seed: int = 0,
-                 workers: int = 1, budget: int = DEFAULT_BUDGET) -> Iterator[Plan]:
+                 workers: int = 1, budget: int = DEFAULT_BUDGET,
+                 executor: Executor | None = None) -> Iterator[Plan]:
     """Plan every job, each in a new process; yields the plans in job order.
 
     Args:
         jobs: the carries.
         body, task, robot: the scene (defaults: :class:`~.world.World`'s).
         seed: spawns each plan's OMPL seed (:func:`plan_seeds`).
-        workers: processes at a time.
+        workers: processes at a time (when no ``executor`` is given).
         budget: robot poses checked per grasp (see :class:`~.planner.CarryPlanner`).
+        executor: an *isolated* executor (a fresh process per job, as OMPL takes one seed per
+            process), e.g. a Ray one; default a local isolated pool of ``workers``.
     """
     seeds = plan_seeds(seed, len(jobs))
     args = [(job, body, task, robot, s, budget) for job, s in zip(jobs, seeds, strict=True)]
-    with LocalExecutor(workers, isolated=True) as executor:
-        yield from executor.map(_plan_one, args)
+    if executor is not None and not getattr(executor, "isolated", False):
+        raise ConfigError("executor: carries need an isolated executor (a process per carry: "
+                          "OMPL takes one seed per process)")
+    with executor or LocalExecutor(workers, isolated=True) as pool:
+        yield from pool.map(_plan_one, args)
 
 
 def _plan_one(args) -> Plan:

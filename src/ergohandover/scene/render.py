@@ -4,6 +4,7 @@ side (three-quarter front and side) with the location and its scores written und
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -112,3 +113,24 @@ def save_png(image: Image.Image, lines: list[str], path: str | os.PathLike) -> P
     for i, line in enumerate(lines):
         draw.text((10, image.height + 6 + 18 * i), line, fill="black", font=font)
     return atomic_write(path, lambda handle: out.save(handle, format="PNG"), binary=True)
+
+
+def render_points(table, points: np.ndarray, evaluator, folder: Path) -> None:
+    """One PNG per point: the twin in the posture of its row (``table`` has the joint columns
+    of ``evaluate(..., joints=True)``)."""
+    from tqdm import tqdm
+
+    from ..twin.evaluate import joint_angles, posture_solver
+
+    folder.mkdir(parents=True, exist_ok=True)
+    names = posture_solver(evaluator).model.joint_names
+    q = joint_angles(table)
+    renderer = Renderer(evaluator.body, evaluator.task)
+    try:
+        for i in tqdm(range(len(points)), desc="render", unit="png", file=sys.stderr,
+                      disable=len(points) < 5):
+            renderer.pose(names, q[i], points[i])
+            save_png(renderer.views(), caption_lines(table.iloc[i]),
+                     folder / f"point_{i + 1:04d}.png")
+    finally:
+        renderer.close()

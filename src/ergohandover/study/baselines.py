@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import ConfigError
+from ..executor import Executor
 from ..landscape.cache import Landscape
 from ..landscape.stats import optimum
 from ..scene.carries import CarryJob, plan_carries
@@ -99,7 +100,8 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
             robot: RobotSpec | None = None, score: str = "paper_postural", seed: int = 0,
             workers: int = 1, budget: int = DEFAULT_BUDGET,
             methods: tuple[str, ...] = METHODS,
-            location: np.ndarray | None = None) -> Comparison:
+            location: np.ndarray | None = None,
+            executor: Executor | None = None) -> Comparison:
     """Both handover locations for every start: the twin's scores there and the robot's
     planned carry of the box there (:mod:`..scene.planner`).
 
@@ -115,6 +117,8 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
         methods: which of :data:`METHODS` to compare.
         location: the optimised location (x, y, z) [m], e.g. where a learner's run ended
             (default: the landscape's optimum, its most symmetric argmin).
+        executor: where the carries are planned (an isolated one; default a local isolated
+            pool of ``workers``).
 
     Returns:
         Columns: ``start_x, start_y, start_z, method, x, y, z, distance_m`` (start to
@@ -135,15 +139,14 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
             for start in starts for method in methods]
     locations = np.array([loc for _, _, loc in rows])
     # One solve per location: the table's scores and the posture the scene shows.
-    scores = evaluate(locations, evaluator.body, evaluator.task, evaluator.solver,
-                      evaluator.settings, evaluator.scoring, joints=True)
+    scores = evaluate(locations, evaluator, joints=True)
     names = posture_solver(evaluator).model.joint_names
     postures = [WorkerPosture(names, q) for q in joint_angles(scores)]
     scores = scores.drop(columns=[c for c in scores.columns if c.startswith(JOINT_PREFIX)])
     jobs = [CarryJob(start, location, posture)
             for (start, _, location), posture in zip(rows, postures, strict=True)]
     plans = list(plan_carries(jobs, evaluator.body, evaluator.task, robot, seed, workers,
-                              budget))
+                              budget, executor))
     head = pd.DataFrame({
         "start_x": [r[0][0] for r in rows], "start_y": [r[0][1] for r in rows],
         "start_z": [r[0][2] for r in rows], "method": [r[1] for r in rows],
@@ -164,3 +167,30 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
     table["grasp"] = [f"{plan.grasp[0]:g}{' flipped' if plan.grasp[1] else ''}"
                       for plan in plans]
     return Comparison(table, plans, postures)
+
+
+def _cell(value, digits: int = 3) -> str:
+    return "–" if pd.isna(value) else f"{value:.{digits}f}" if isinstance(value, float) \
+        else str(value)
+
+
+def markdown_table(table: pd.DataFrame) -> str:
+    """One line per start: each method's location, scores (ours, the paper's) and robot."""
+    head = ["start (x, y, z) [m]"]
+    for method in ("optimised", "shortest distance"):
+        head += [f"{method} (x, y, z) [m]", "postural: ours (paper)", "REBA", "RULA", "robot"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for _, group in table.groupby(["start_x", "start_y", "start_z"], sort=False):
+        first = group.iloc[0]
+        cells = [f"({first.start_x:.3f}, {first.start_y:.3f}, {first.start_z:.3f})"]
+        for _, row in group.iterrows():
+            ours = _cell(row.paper_postural) if row.feasible else f"infeasible ({row.reason})"
+            paper = "" if pd.isna(row.paper_postural_paper) else \
+                f" ({int(row.paper_postural_paper)})"
+            robot = (f"yes: {row.path_length_m:.2f} m, {row.waypoints} waypoints, clearance "
+                     f"{100 * row.clearance_m:.1f} cm, {row.planning_s:.1f} s"
+                     if row.robot_feasible else f"no: {row.robot_reason}")
+            cells += [f"({row.x:.3f}, {row.y:.3f}, {row.z:.3f})", ours + paper,
+                      _cell(row.reba), _cell(row.rula), robot]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"

@@ -15,19 +15,16 @@ import pandas as pd
 
 from ..ergonomics import OBJECTIVES
 from ..landscape.cache import Landscape
-from ..twin.anthropometry import BodySpec
-from ..twin.evaluate import evaluate
-from ..twin.task import TaskSpec
+from ..twin.evaluate import Evaluator, evaluate
 from .baselines import optimised, shortest_distance
 
-WORKERS = ("p5-female", "p50-female", "p95-female", "p5-male", "p50-male", "p95-male")
 DEFAULT_WORKER = "p50-male"
 # The VR study's start points (worker frame, m): aligned with the worker, and 1 m to its left.
 VR_STARTS = {"aligned": (0.0, 1.122, 1.354), "offset-left": (-1.0, 1.122, 1.354)}
 
 
 
-def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = None,
+def participant_study(landscapes: dict[str, Landscape], evaluators: dict[str, Evaluator],
                       score: str = "paper_postural",
                       default: str = DEFAULT_WORKER) -> pd.DataFrame:
     """Score every worker at the default's optimum, its own optimum and the shortest-distance
@@ -36,7 +33,7 @@ def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = 
     Args:
         landscapes: worker percentile name -> that worker's landscape (one boundary for all,
             as the paper deploys one); must include ``default``.
-        task: the box.
+        evaluators: worker percentile name -> the evaluator its landscape was swept with.
         score: the objective the optima minimise.
         default: the worker whose optimum is deployed to everyone.
 
@@ -44,17 +41,16 @@ def participant_study(landscapes: dict[str, Landscape], task: TaskSpec | None = 
         One row per worker and location: ``worker, stature_m, location, start, x, y, z,
         feasible, reason`` and the scores of :data:`OBJECTIVES` (<NA> where infeasible).
     """
-    task = task or TaskSpec()
     deployed = optimised(landscapes[default], score)
     rows = []
     for name, landscape in landscapes.items():
-        body = BodySpec.from_percentile(name)
+        body = evaluators[name].body
         boundary = landscape.grid.boundary
         places = [("default-optimised", "", deployed),
                   ("own-optimised", "", optimised(landscape, score))]
         places += [("shortest-distance", start, shortest_distance(np.array(point), boundary))
                    for start, point in VR_STARTS.items()]
-        table = evaluate(np.array([p for _, _, p in places]), body, task)
+        table = evaluate(np.array([p for _, _, p in places]), evaluators[name])
         for (location, start, point), (_, row) in zip(places, table.iterrows(), strict=True):
             rows.append({"worker": name, "stature_m": body.stature_m, "location": location,
                          "start": start, "x": point[0], "y": point[1], "z": point[2],

@@ -76,8 +76,7 @@ def holds(locations: np.ndarray, evaluator: Evaluator | None = None,
     """
     evaluator = evaluator or Evaluator()
     locations = np.asarray(locations, dtype=float).reshape(-1, 3)
-    scores = evaluate(locations, evaluator.body, evaluator.task, evaluator.solver,
-                      evaluator.settings, evaluator.scoring, joints=True, workers=workers)
+    scores = evaluate(locations, evaluator, joints=True, workers=workers)
     names = posture_solver(evaluator).model.joint_names
     postures = joint_angles(scores)
     jobs = [(evaluator, robot, names, locations[i:i + CHUNK], postures[i:i + CHUNK])

@@ -165,8 +165,7 @@ def validation_table(optimum: np.ndarray, evaluator: Evaluator | None = None) ->
     body = evaluator.body
     where = locations(evaluator, optimum)
     names = list(where)
-    table = evaluate(np.stack([where[n] for n in names]), body, evaluator.task,
-                     evaluator.solver, evaluator.settings, evaluator.scoring, joints=True)
+    table = evaluate(np.stack([where[n] for n in names]), evaluator, joints=True)
     rows = []
     for c in CONDITIONS:
         row = table.iloc[names.index(c.location)]
@@ -203,8 +202,7 @@ def knee_height_postures(task, workers: tuple[str, ...] = LOW_BOX_WORKERS) -> pd
         box = Boundary.from_body(evaluator.body, task)
         points = np.array([[x, box.y[0] * f, z] for f in LOW_BOX_HEIGHTS
                            for x in np.linspace(*box.x, 3) for z in np.linspace(*box.z, 4)])
-        table = evaluate(points, evaluator.body, task, evaluator.solver, evaluator.settings,
-                         evaluator.scoring, joints=True)
+        table = evaluate(points, evaluator, joints=True)
         deg = {j: np.degrees(table[f"q_{j}"].to_numpy()) for j in LEG_JOINTS}
         bend = deg["ankle_flexion"] + deg["hip_flexion"] + deg["lumbar_flexion"]
         rows.append(pd.DataFrame({

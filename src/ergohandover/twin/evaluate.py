@@ -28,7 +28,11 @@ from .collision import BodyProbes
 from .solver import PostureSolver, SolverSettings
 from .task import TaskSpec
 
-SOLVERS = ("numpy", "pybullet")
+SOLVERS = ("whole-body", "pybullet")
+"""The twin's posture solvers: its own whole-body solver (balance, gaze, palms; compiled) and
+PyBullet's IK on the hands (the ablation's)."""
+SOLVER_ALIASES = {"numpy": "whole-body"}
+"""Former names still accepted: the whole-body solver was once selected as ``numpy``."""
 TRUNK_REFERENCES = ("vertical", "pelvis")
 HAND_TOLERANCE_M = 0.01
 REASONS = ("hand_miss", "box_collision", "unbalanced")
@@ -53,7 +57,7 @@ class Evaluator:
 
     body: BodySpec = field(default_factory=BodySpec)
     task: TaskSpec = field(default_factory=TaskSpec)
-    solver: str = "numpy"
+    solver: str = "whole-body"
     settings: SolverSettings = field(default_factory=SolverSettings)
     scoring: ScoringSettings = field(default_factory=ScoringSettings)
     trunk_reference: str = "vertical"
@@ -61,6 +65,8 @@ class Evaluator:
     pelvis (the lumbar spine's own bend, as a joint-angle model would read it)."""
 
     def __post_init__(self):
+        if self.solver in SOLVER_ALIASES:  # a frozen field: renamed once, here
+            object.__setattr__(self, "solver", SOLVER_ALIASES[self.solver])
         for name, allowed in (("solver", SOLVERS), ("trunk_reference", TRUNK_REFERENCES)):
             if getattr(self, name) not in allowed:
                 raise EvaluationError(f"{name} = {getattr(self, name)!r} is not allowed (use "
@@ -75,7 +81,7 @@ def posture_solver(evaluator: Evaluator):
     loaded from numba's disk cache) and its warm-start lattice solved here, once, so that
     worker processes forked afterwards share both."""
     if evaluator not in _SOLVERS:
-        if evaluator.solver == "numpy":
+        if evaluator.solver == "whole-body":
             solver = PostureSolver(evaluator.body, evaluator.task, evaluator.settings)
             solver.lattice  # noqa: B018  (solve it once, before any worker process forks)
         else:
@@ -206,32 +212,29 @@ def evaluate_arrays(locations: np.ndarray, evaluator: Evaluator | None = None, w
     return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 
-def evaluate(locations: np.ndarray, body: BodySpec | None = None, task: TaskSpec | None = None,
-             solver: str = "numpy", settings: SolverSettings | None = None,
-             scoring: ScoringSettings | None = None, workers: int = 1,
+def evaluate(locations: np.ndarray, evaluator: Evaluator | None = None, workers: int = 1,
              progress: Callable[[int], None] | None = None,
              joints: bool = False) -> pd.DataFrame:
     """Evaluate box locations: posture, feasibility and every score, as a table.
 
     Args:
         locations: (N, 3) box centres in the worker frame [m].
-        body: the worker (default: ANSUR II 50th-percentile man).
-        task: the box and handles (default: :class:`TaskSpec`).
-        solver: ``numpy`` (the whole-body solver; the name is historical: it runs compiled) or
-            ``pybullet`` (PyBullet's IK on the hands).
-        settings: posture-solver weights.
-        scoring: REBA/RULA settings.
+        evaluator: the worker's body, the task, the solver, its settings, the scoring settings
+            and the trunk-angle reference, whole (default: :class:`Evaluator`'s defaults, the
+            ANSUR II 50th-percentile man and the default box).
         workers: processes to spread the chunks over (1 = this process).
         progress: called with the number of locations finished after each chunk.
         joints: also return the solved joint angles, ``q_<joint>`` columns [rad].
 
     Returns:
-        One row per location, columns :data:`EVALUATION_COLUMNS` (DESIGN.md's Evaluation CSV),
-        then the joint columns if asked for. Score columns are empty (<NA>) where the location
-        is infeasible: such a location is never scored as if the worker could take it.
+        One row per location, columns :data:`EVALUATION_COLUMNS` (the Evaluation CSV), then
+        the joint columns if asked for. Score columns are empty (<NA>) where the location is
+        infeasible: such a location is never scored as if the worker could take it.
     """
-    evaluator = Evaluator(body or BodySpec(), task or TaskSpec(), solver,
-                          settings or SolverSettings(), scoring or ScoringSettings())
+    if evaluator is not None and not isinstance(evaluator, Evaluator):
+        raise EvaluationError(f"evaluator = {evaluator!r} is not an Evaluator (build one: "
+                              "Evaluator(body, task, ...))")
+    evaluator = evaluator or Evaluator()
     arrays = evaluate_arrays(locations, evaluator, workers, progress)
     names = [*EVALUATION_COLUMNS,
              *(c for c in arrays if joints and c.startswith(JOINT_PREFIX))]

@@ -135,7 +135,7 @@ class SolverSettings:
         iterations: iterations from the interpolated start. 10: on 20,000 random paper-code
             locations, 99.6% score exactly as with 12 (flags, paper score, REBA, RULA) and
             97.3% as with 60 (97.6% with 12), for two iterations (a sixth of the solve) less
-            (``experiments/analysis/iteration_budget.py``).
+            (``experiments/tools/iteration_budget.py``).
         lattice_iterations: iterations for the lattice postures, from each strategy.
         preference_scale: factor on every joint-preference weight (``JOINT_PREFERENCE``).
         joint_preference_scales: (joint, factor) pairs on single joints' preference weights,

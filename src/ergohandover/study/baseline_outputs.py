@@ -1,0 +1,73 @@
+"""The baselines' files beside their table: a path CSV per planned carry, and pictures (a PNG per
+start and location, a contact sheet, a GIF per planned carry). The ``baseline`` command and the
+study's baselines part both write them from a :class:`~.baselines.Comparison`."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..io.atomic import atomic_write_csv
+from ..scene.robot import RobotSpec
+from ..twin.evaluate import Evaluator
+
+
+def write_paths(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
+    """A path CSV per planned carry (``start<i>_<method>.csv``, see
+    :func:`~..scene.carries.path_table`)."""
+    from ..scene.carries import path_table
+    from ..scene.world import World
+
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    with World(evaluator.body, evaluator.task, robot) as world:
+        for i, (row, plan) in enumerate(zip(result.table.to_dict("records"), result.plans,
+                                            strict=True)):
+            if plan.ok:
+                name = f"start{i // 2 + 1}_{row['method']}.csv"
+                written.append(atomic_write_csv(path_table(world, plan), folder / name))
+    print(f"wrote {len(written)} path files into {folder}", file=sys.stderr)
+    return written
+
+
+def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
+    """A PNG per row (the robot at the handover: the carry's last pose, else the best hold it
+    finds there), a contact sheet of them and a GIF per planned carry."""
+    from ..scene.render import save_png
+    from ..scene.scene_render import (
+        SceneRenderer,
+        baseline_caption,
+        carry_gif,
+        contact_sheet,
+        short_label,
+    )
+    from ..scene.world import World
+
+    folder.mkdir(parents=True, exist_ok=True)
+    paths, gifs, cells = [], [], []
+    with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
+        world = renderer.world
+        rows = result.table.to_dict("records")
+        for i, (row, plan, posture) in enumerate(zip(rows, result.plans, result.postures,
+                                                     strict=True)):
+            location = np.array([row["x"], row["y"], row["z"]])
+            if plan.ok:
+                last = plan.waypoints[-1]
+                arms, lift = last.q, last.lift
+            else:  # the hold found at the location on its own, else the lowest lift's try
+                reach, lift = world.hold_at_some_lift(location, posture)
+                arms = reach.q
+            renderer.pose(location, arms, posture, lift)
+            views = renderer.views()
+            name = f"start{i // 2 + 1}_{row['method']}"
+            paths.append(save_png(views, baseline_caption(row), folder / f"{name}.png"))
+            cells.append((views, short_label(row, i // 2 + 1)))
+            if plan.ok:
+                gifs.append(carry_gif(renderer, plan, posture, folder / f"{name}.gif"))
+        sheet = contact_sheet(cells, folder / "baseline_sheet.png")
+    print(f"wrote {len(paths)} pictures, {sheet.name} and {len(gifs)} GIFs into {folder}",
+          file=sys.stderr)
+    return [*paths, sheet, *gifs]
+
