@@ -1,132 +1,14 @@
-"""Study part `baselines`: the paper's comparison of the optimised location with the naive
-shortest-distance location, from its five start points, with the robot's feasibility and
-pictures of each. As in the paper, the optimised location is where the learner ended: the best
-location the configured agent found on the configured target and budget of the `learning` part
-(``baselines.location``); the landscape's argmin is recorded beside it.
+"""Run the study's `baselines` part alone (always, even if finished).
 
-Usage: python experiments/study_baselines.py [--config ...]
+Its logic and what it writes: src/ergohandover/study/parts/baselines.py (printed by --help).
+The whole study: experiments/run_all.py.
 
-Writes results/baselines/: baselines.csv (one row per start and method, with the robot's
-planned carry), baselines.md (with each path file replayed on urdf/robot_default.urdf: deepest
-self-penetration, largest joint step), paths/ (a CSV per planned carry: time, box pose, every
-robot joint), other_starts.csv (carries to the optimum from starts drawn around the worker),
-reachability.csv and reachability_summary.csv (where the robot can hold the box over the
-configured boundaries, and the best location of the landscape it can hold), renders/ (a PNG
-per start and method, a contact sheet, a GIF per planned carry), manifest.json.
+Usage: python experiments/study_baselines.py [--config FILE] [--set KEY=VALUE] [--results DIR]
+       [--workers N] [--engine local|ray] [--address auto|HOST:PORT]
 """
 
-from __future__ import annotations
-
-from pathlib import Path
-
-import numpy as np
-import pandas as pd
-import study_landscape
-import study_learning
-
-from ergohandover.cli.baseline import markdown_table, render, write_paths
-from ergohandover.io.atomic import atomic_write, atomic_write_csv
-from ergohandover.landscape.grid import parse_boundary
-from ergohandover.scene.carries import replay
-from ergohandover.scene.robot import RobotSpec
-from ergohandover.study.baselines import PAPER_STARTS, compare, reasonable_starts
-from ergohandover.study.parts import part_config, run_part, study_main
-from ergohandover.study.reachability import reachability, restricted_optimum
-from ergohandover.twin.evaluate import Evaluator
-
-ROOT = Path(__file__).resolve().parents[1]
-ROBOT_URDF = ROOT / "urdf" / "robot_default.urdf"
-
-
-def learned_location(results: Path, spec: dict) -> pd.Series:
-    """The row of results/learning/found.csv named by ``spec`` (target, agent, budget)."""
-    found = pd.read_csv(results / "learning" / "found.csv")
-    row = found[(found["target"] == spec["target"]) & (found["agent"] == spec["agent"])
-                & (found["budget"] == spec["budget"])]
-    if row.empty:
-        raise SystemExit(f"baselines.location = {spec} names no row of "
-                         f"{results / 'learning' / 'found.csv'}")
-    return row.iloc[0]
-
-
-def other_starts(landscape, evaluator, robot, part: dict, workers: int,
-                 location: np.ndarray) -> pd.DataFrame:
-    """Carries to the optimised location from ``part["other_starts"]`` starts drawn around the
-    worker (:func:`reasonable_starts`, their own generator)."""
-    starts = reasonable_starts(np.random.default_rng(part["starts_seed"]), part["other_starts"])
-    return compare(starts, landscape, evaluator, robot, seed=part["seed"], workers=workers,
-                   methods=("optimised",), location=location).table
-
-
-def reach_summary(reach: pd.DataFrame, best, steps: dict) -> pd.DataFrame:
-    """One row per boundary: the share of its grid the robot holds; and both optima of the
-    landscape (the same in every row)."""
-    rows = []
-    for name, grid in reach.groupby("boundary", sort=False):
-        rows.append({
-            "boundary": name, "step_m": steps[name], "locations": len(grid),
-            "held": int(grid["held"].sum()), "held_fraction": float(grid["held"].mean()),
-            "held_fraction_twin_feasible": float(grid.loc[grid["twin_feasible"] == 1,
-                                                          "held"].mean()),
-            "smallest_clearance_m": float(grid["clearance_m"].min()),
-            "score": best.score, "optimum": best.best,
-            "optimum_x": best.best_location[0], "optimum_y": best.best_location[1],
-            "optimum_z": best.best_location[2], "held_optimum": best.held,
-            "held_x": best.held_location[0], "held_y": best.held_location[1],
-            "held_z": best.held_location[2], "held_rank": best.rank})
-    return pd.DataFrame(rows)
-
-
-def run(config: dict, results: Path, workers: int, force: bool = False) -> None:
-    study_landscape.run(config, results, workers)  # reused when finished
-    study_learning.run(config, results, workers)  # where the learner ended; reused likewise
-    part = part_config(config, "baselines")
-
-    def work(folder: Path) -> dict:
-        landscape = study_landscape.default_landscape(config, workers)
-        evaluator, robot = Evaluator(task=study_landscape.study_task(config)), RobotSpec()
-        learned = learned_location(results, part["location"])
-        location = learned[["x", "y", "z"]].to_numpy(dtype=float)
-        result = compare(PAPER_STARTS, landscape, evaluator, robot, seed=part["seed"],
-                         workers=workers, location=location)
-        table = result.table
-        source = (f"{learned['agent']} {learned['target']} {learned['budget']} run "
-                  f"{int(learned['run'])}")
-        table["location_source"] = np.where(table["method"] == "optimised", source, "")
-        for axis in "xyz":
-            table[f"argmin_{axis}"] = learned[f"argmin_{axis}"]
-        # Each path file played back on the committed robot URDF in a client of its own.
-        paths = write_paths(result, evaluator, robot, folder / "paths")
-        played = {path.stem: replay(pd.read_csv(path), ROBOT_URDF) for path in paths}
-        names = [f"start{i // 2 + 1}_{m}" for i, m in enumerate(table["method"])]
-        table["replay_penetration_mm"] = [
-            1000 * played[n].self_penetration_m if n in played else np.nan for n in names]
-        table["replay_joint_step_rad"] = [
-            played[n].revolute_step_rad if n in played else np.nan for n in names]
-        atomic_write_csv(table, folder / "baselines.csv")
-        markdown = markdown_table(table)
-        atomic_write(folder / "baselines.md", lambda h: h.write(markdown))
-        print(markdown, end="")
-        others = other_starts(landscape, evaluator, robot, part, workers, location)
-        atomic_write_csv(others, folder / "other_starts.csv")
-        reach = pd.concat([reachability(
-            parse_boundary(name, evaluator.body, evaluator.task), evaluator, robot, step,
-            workers).assign(boundary=name) for name, step in part["reach"].items()])
-        atomic_write_csv(reach, folder / "reachability.csv")
-        best = restricted_optimum(landscape, evaluator, robot, workers=workers)
-        atomic_write_csv(reach_summary(reach, best, part["reach"]),
-                         folder / "reachability_summary.csv")
-        if part["render"]:
-            render(result, evaluator, robot, folder / "renders")
-        return {"starts": len(PAPER_STARTS),
-                "carries_planned": sum(plan.ok for plan in result.plans),
-                "other_starts_planned": int(others["robot_feasible"].sum()),
-                "held_fraction": {name: float(grid["held"].mean())
-                                  for name, grid in reach.groupby("boundary", sort=False)}}
-
-    run_part("baselines", results / "baselines", part, work, seeds={"planner": part["seed"]},
-             force=force)
-
+from ergohandover.study.parts import baselines
+from ergohandover.study.script import study_main
 
 if __name__ == "__main__":
-    study_main(run, __doc__, ROOT)
+    study_main("baselines", baselines.__doc__)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from ergohandover.envs import HandoverEnv, LandscapeScores
-from ergohandover.landscape.cache import Landscape
+from ergohandover.landscape.cache import Landscape, landscape_key, landscape_path
 from ergohandover.landscape.grid import Grid
+from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
 BOWL = Boundary((-0.09, 0.09), (1.00, 1.18), (0.30, 0.48))  # 7 x 7 x 7 cells every 3 cm
@@ -27,6 +28,16 @@ def bowl_landscape(infeasible=(INFEASIBLE,)) -> Landscape:
     for name in ("paper_postural", "reba", "reba_ab", "rula"):
         arrays[name] = np.where(flags == 0, score, -1).astype(np.int8)
     return Landscape(grid, "bowl", arrays, {})
+
+
+def cached_bowl() -> tuple[Evaluator, Grid]:
+    """The bowl stored in the landscape cache (the test session's own) as the default
+    evaluator's landscape of the bowl's grid, so that the landscape door returns it for
+    (evaluator, grid), as it would a swept one."""
+    bowl, evaluator = bowl_landscape(), Evaluator()
+    key = landscape_key(evaluator, bowl.grid)
+    Landscape(bowl.grid, key, bowl.arrays, bowl.meta).save(landscape_path(key))
+    return evaluator, bowl.grid
 
 
 def bowl_env(**kwargs) -> HandoverEnv:

@@ -71,3 +71,72 @@ def module_aliases(tree: ast.Module) -> set[str]:
                 "ergohandover")):
             names |= {a.asname or a.name for a in node.names}
     return names
+
+
+ROOT = PACKAGE.parents[1]
+EXPERIMENTS = ROOT / "experiments"
+CACHE_NAMES = {"cache_dir", "landscape_path"}
+"""The cache's own names: only ergohandover.landscape may use them (the landscape door,
+ergohandover.landscape.store, is every other module's way to a cached landscape)."""
+ANALYSIS_MAY_IMPORT = {"io.atomic": None, "learning.agents": {"AGENTS"},
+                       "learning.statistics": {"wilson"},
+                       "landscape.stats": {"plot_distributions"}}
+"""What experiments/analysis/ may take from the package: writing files, the agents' names,
+arithmetic on numbers read from results/ and a plot; nothing that evaluates or sweeps."""
+
+
+def script_imports(path: Path):
+    """Every module a script imports (``import x`` and ``from x import ...``), with its names."""
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name, []
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            yield node.module, [alias.name for alias in node.names]
+
+
+def test_scripts_import_no_sibling_study_script_and_nothing_from_the_cli():
+    for path in EXPERIMENTS.rglob("*.py"):
+        text = path.read_text()
+        assert "sys.path.insert" not in text, f"{path.relative_to(ROOT)} edits sys.path"
+        for module, _ in script_imports(path):
+            assert not module.split(".")[0].startswith(("study_", "run_all")), (
+                f"{path.relative_to(ROOT)} imports the script {module}")
+            assert not module.startswith("ergohandover.cli"), (
+                f"{path.relative_to(ROOT)} imports {module}")
+
+
+def test_nothing_outside_the_landscape_layer_touches_the_cache():
+    for path in [*PACKAGE.rglob("*.py"), *EXPERIMENTS.rglob("*.py")]:
+        if path.is_relative_to(PACKAGE / "landscape"):
+            continue
+        for module, names in [*imports(path), *script_imports(path)]:
+            touched = CACHE_NAMES & set(names)
+            assert not touched, f"{path.relative_to(ROOT)} imports {touched} from {module}"
+
+
+def test_the_analysis_scripts_read_results_and_compute_nothing_of_the_model():
+    for path in (EXPERIMENTS / "analysis").glob("*.py"):
+        for module, names in script_imports(path):
+            if not module.startswith("ergohandover"):
+                continue
+            inner = module.removeprefix("ergohandover.")
+            assert inner in ANALYSIS_MAY_IMPORT, f"{path.name} imports {module}"
+            allowed = ANALYSIS_MAY_IMPORT[inner]
+            assert allowed is None or set(names) <= allowed, f"{path.name}: {names} of {module}"
+
+
+def test_no_committed_optimum_is_copied_into_code():
+    import pandas as pd
+
+    stats = pd.read_csv(ROOT / "results" / "landscape" / "stats.csv")
+    for _, row in stats.iterrows():
+        copied = f"{row['best_x']:.3f}, {row['best_y']:.3f}, {row['best_z']:.3f}"
+        for path in [*PACKAGE.rglob("*.py"), *EXPERIMENTS.rglob("*.py")]:
+            assert copied not in path.read_text(), f"{path.relative_to(ROOT)} holds {copied}"
+
+
+def test_modules_stay_a_few_hundred_lines():
+    for path in [*PACKAGE.rglob("*.py"), *EXPERIMENTS.rglob("*.py")]:
+        lines = len(path.read_text().splitlines())
+        assert lines <= 450, f"{path.relative_to(ROOT)} has {lines} lines"

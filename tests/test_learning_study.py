@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats
-from synthetic import CENTRE, bowl_env, bowl_landscape, flat
+from synthetic import CENTRE, bowl_env, bowl_landscape, cached_bowl, flat
 
 from ergohandover.envs import HandoverEnv, LandscapeScores
 from ergohandover.envs.scores import LEXICOGRAPHIC, objective_values
@@ -160,15 +160,15 @@ def test_every_run_has_a_seed_of_its_own():
 
 
 @pytest.fixture
-def bowl_file(tmp_path):
-    path = tmp_path / "bowl.npz"
-    bowl_landscape().save(path)
-    return str(path)
+def bowl_file():
+    """The bowl's (evaluator, grid), its landscape in the cache."""
+    return cached_bowl()
 
 
 def job(bowl_file, agent: str, run: int, steps: int = 5_000, rollouts: int = 0) -> RunJob:
-    return RunJob("bowl", bowl_file, "paper_postural", "minimum", agent, "short", steps, None,
-                  run, run_seed(7, "bowl", agent, "short", run), rollouts=rollouts,
+    evaluator, grid = bowl_file
+    return RunJob("bowl", evaluator, grid, "paper_postural", "minimum", agent, "short", steps,
+                  None, run, run_seed(7, "bowl", agent, "short", run), rollouts=rollouts,
                   rollout_seed=3)
 
 

@@ -1,6 +1,6 @@
 """The committed population study: a workforce of at least 30, every one-size choice and its
 penalties consistent with the landscapes' optima, intervals around their estimates, and the
-README's blocks equal to what the tables script makes of results/population/. Bad input to the
+report's blocks equal to what the tables script makes of results/population/. Bad input to the
 study's commands is a one-line error that writes nothing."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 import population_tables  # noqa: E402
-from readme_blocks import readme_block  # noqa: E402
+from readme_blocks import block  # noqa: E402
 
 FOLDER = ROOT / "results" / "population"
 
@@ -58,15 +58,14 @@ def test_each_choice_is_best_by_its_own_rule_and_intervals_hold_their_estimates(
         assert (value <= one_size[f"{stem}_ci_high"] + 1e-12).all()
 
 
-def test_the_readme_population_blocks_are_the_committed_results():
-    readme = (ROOT / "README.md").read_text()
-    for name, block in population_tables.blocks(ROOT / "results").items():
-        assert readme_block(readme, name) == block, name
+def test_the_report_population_blocks_are_the_committed_results():
+    for name, made in population_tables.blocks(ROOT / "results").items():
+        assert block(name) == made, name
 
 
 @pytest.mark.parametrize(("command", "message"), [
-    (["experiments/study_population.py", "--size", "0"],
-     "study_population: error: size = 0 is outside the valid range"),
+    (["experiments/study_population.py", "--set", "population.size=0"],
+     "study_population: error: population.size = 0 is outside the valid range"),
     (["experiments/study_population.py", "--engine", "ray", "--address", "nonsense"],
      "study_population: error: address = 'nonsense' is not valid"),
     (["experiments/run_all.py", "--only", "population", "--engine", "ray", "--address",

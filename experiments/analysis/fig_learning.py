@@ -33,12 +33,17 @@ def agents_in(frame: pd.DataFrame) -> list[str]:
     return [a for a in AGENT_NAMES if a in set(frame["agent"])]
 
 
-def step_budgets(runs: pd.DataFrame) -> list[str]:
-    return list(dict.fromkeys(runs.dropna(subset=["steps"]).sort_values("steps")["budget"]))
+def drawn_budgets(runs: pd.DataFrame) -> list[str]:
+    """The budgets the box plots show: the step budgets, smallest first; with none (the
+    paper's own protocol), the wall-clock caps."""
+    stepped = runs.dropna(subset=["steps"])
+    if stepped.empty:
+        return list(dict.fromkeys(runs.sort_values("time_cap_s")["budget"]))
+    return list(dict.fromkeys(stepped.sort_values("steps")["budget"]))
 
 
 def min_score(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
-    budgets = step_budgets(runs)
+    budgets = drawn_budgets(runs)
     fig, axes = panels(len(targets))
     for ax, t in zip(axes, targets.itertuples(), strict=True):
         data = runs[(runs["target"] == t.target) & runs["budget"].isin(budgets)]
@@ -63,7 +68,7 @@ def min_score(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
 
 
 def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
-    budgets = step_budgets(runs)
+    budgets = drawn_budgets(runs)
     fig, axes = panels(len(targets))
     for ax, t in zip(axes, targets.itertuples(), strict=True):
         data = runs[(runs["target"] == t.target) & runs["budget"].isin(budgets)].copy()
@@ -82,8 +87,8 @@ def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
                     continue
                 x = i - 0.4 + width * (b + 0.5)
                 missed = cell[cell["reached"].astype(str) != "True"]
-                if len(missed):  # censored: never reached within the budget
-                    ax.scatter([x] * len(missed), [cell["steps"].iloc[0]] * len(missed),
+                if len(missed):  # censored: never reached within the budget (or the cap)
+                    ax.scatter([x] * len(missed), missed["evaluations"],
                                marker="x", color="#d62728", s=18, zorder=3)
                 ax.text(x, 0.02, f"{len(cell) - len(missed)}/{len(cell)}", fontsize=6,
                         ha="center", transform=ax.get_xaxis_transform())
@@ -103,6 +108,8 @@ def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
 
 def curves(curve: pd.DataFrame, targets: pd.DataFrame, value: str, low: str, high: str,
            ylabel: str, name: str, title: str) -> None:
+    if curve.empty:  # wall-clock caps only: no shared evaluation axis, no curves
+        return
     budget = curve.sort_values("evaluations")["budget"].iloc[-1]  # the largest budget
     curve = curve[curve["budget"] == budget]
     fig, axes = panels(len(targets))
@@ -128,6 +135,8 @@ def curves(curve: pd.DataFrame, targets: pd.DataFrame, value: str, low: str, hig
 
 
 def rollouts(summary: pd.DataFrame) -> None:
+    if "rollouts" not in summary:  # no run was rolled out (the paper's own protocol)
+        return
     walks = summary.dropna(subset=["rollouts"])
     if walks.empty:
         return

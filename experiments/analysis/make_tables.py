@@ -62,16 +62,14 @@ def learning() -> list[str]:
     steps = summary.dropna(subset=["steps"]).drop_duplicates("budget")
     budgets = list(steps["budget"])
     described = ", ".join(f"{b} = {int(n):,} evaluations" for b, n in
-                          zip(steps["budget"], steps["steps"], strict=True))
+                          zip(steps["budget"], steps["steps"], strict=True)) or ", ".join(
+        f"{b} of wall clock" for b in dict.fromkeys(summary["budget"]))
     runs = int(summary["n_runs"].max())
     lines = ["## Learning: can the learners be told apart?", "",
              f"{manifest['runs']:,} runs, {runs} per target, agent and budget, each with a seed "
              f"of its own; budgets {described}; no run stops at the known optimum.", "",
              "Targets:", "", *learning_tables.targets_table(targets), "",
-             "Q-learning against the random walk and random sampling (successes of runs, 95 % "
-             "Wilson interval; two-sided Mann-Whitney on evaluations to the target, censored "
-             "runs last; Cliff's δ > 0: Q-learning sooner):", "",
-             *learning_tables.verdict_table(summary, comparisons, budgets), ""]
+             *verdicts(summary, comparisons, budgets)]
     for budget in dict.fromkeys(summary["budget"]):
         lines += [f"Every agent at {budget} (successes, median evaluations to the target):", "",
                   *learning_tables.agents_table(summary, budget), ""]
@@ -80,6 +78,17 @@ def learning() -> list[str]:
                   "the target, 95 % Wilson interval, mean steps of those that did):", "",
                   *learning_tables.rollouts_table(summary), ""]
     return lines
+
+
+def verdicts(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
+    """Q-learning against the random walk and random sampling, where they ran (the paper's own
+    protocol runs Q-learning and DQN only: its every-agent tables below compare them)."""
+    if not {"randomwalk", "random"} <= set(comparisons["versus"]):
+        return []
+    return ["Q-learning against the random walk and random sampling (successes of runs, 95 % "
+            "Wilson interval; two-sided Mann-Whitney on evaluations to the target, censored "
+            "runs last; Cliff's δ > 0: Q-learning sooner):", "",
+            *learning_tables.verdict_table(summary, comparisons, budgets), ""]
 
 
 def baselines() -> list[str]:

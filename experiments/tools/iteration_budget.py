@@ -1,7 +1,7 @@
 """How many solver iterations are enough? Scores and feasibility at several budgets against a
 long solve from the same warm start, with the time each budget takes.
 
-Usage: python experiments/analysis/iteration_budget.py [--locations 20000] [--seed 1]
+Usage: python experiments/tools/iteration_budget.py [--locations 20000] [--seed 1]
        [--budgets 8,9,10,11,12] [--reference 60]
 
 Random locations in the paper-code boundary, default worker and task, one process. For each

@@ -1,6 +1,6 @@
 """Where does each whole-body strategy end for a low box, and which one does the twin keep?
 
-Usage: python experiments/analysis/knee_strategies.py [--iterations 200] [--percentile p50-male]
+Usage: python experiments/tools/knee_strategies.py [--iterations 200] [--percentile p50-male]
 
 Boxes in front of the feet (the mean ankle-to-box gap people leave, Potvin & Bent 1997) from the
 floor to elbow height are solved to convergence from each strategy of the solver's

@@ -1,6 +1,6 @@
 """Plan the carry from each of the paper's five starts to the default optimum (work in progress).
 
-Usage: python experiments/analysis/plan_paper_starts.py [START ...]   (1-5; default all)
+Usage: python experiments/tools/plan_paper_starts.py [START ...]   (1-5; default all)
 
 Prints per start: the plan's reason (empty when planned), the grasp, the wall time, the number
 of validity checks, the waypoints, the box path's length [m], the smallest robot-worker distance
@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 from ergohandover.scene.planner import CarryPlanner
 from ergohandover.scene.world import WorkerPosture, World
 from ergohandover.study.baselines import PAPER_STARTS
+from ergohandover.study.parts.landscape import recorded_optimum
 from ergohandover.twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
 
-OPTIMUM = np.array([0.001, 1.014, 0.411])  # results/landscape/stats.csv, paper_postural
+OPTIMUM = recorded_optimum(Path(__file__).resolve().parents[2] / "results")
+"""The study's paper-score optimum, as results/landscape/stats.csv records it."""
 
 
 def main() -> None:

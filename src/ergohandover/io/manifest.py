@@ -23,9 +23,10 @@ PACKAGES = ("ergohandover", "numpy", "pandas", "pybullet", "gymnasium", "stable-
 OUTPUTS = ("results", "paper_figs")
 
 
-def git_commit(cwd: str | os.PathLike | None = None) -> str | None:
-    """The checkout's commit, with ``-dirty`` if tracked files other than the outputs
-    (:data:`OUTPUTS`) have uncommitted changes; None outside a git checkout."""
+def git_state(cwd: str | os.PathLike | None = None) -> dict[str, Any]:
+    """The checkout's commit, whether tracked files other than the outputs (:data:`OUTPUTS`)
+    differ from it, and which (``dirty_files``, at most 50); ``commit`` None outside a git
+    checkout. A result made from a tree that differs from its commit says so and how."""
     try:
         run = lambda *a: subprocess.run(  # noqa: E731
             ["git", *a], cwd=cwd, capture_output=True, text=True, timeout=10, check=True
@@ -33,9 +34,10 @@ def git_commit(cwd: str | os.PathLike | None = None) -> str | None:
         commit = run("rev-parse", "HEAD")
         changed = run("status", "--porcelain", "--untracked-files=no", "--", ":(top)",
                       *(f":(top,exclude){folder}" for folder in OUTPUTS))
-        return commit + ("-dirty" if changed else "")
     except (OSError, subprocess.SubprocessError):
-        return None
+        return {"commit": None, "dirty": None, "dirty_files": []}
+    files = [line[3:] for line in changed.splitlines()]
+    return {"commit": commit, "dirty": bool(files), "dirty_files": files[:50]}
 
 
 def package_versions() -> dict[str, str | None]:
@@ -75,7 +77,7 @@ def write_manifest(result: str | os.PathLike, config: dict[str, Any], seeds: dic
         "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
         "config": config,
         "seeds": seeds,
-        "git_commit": git_commit(here),
+        "git": git_state(here),
         "versions": {"python": platform.python_version(), **package_versions()},
         "machine": {"platform": platform.platform(), "processor": platform.machine(),
                     "cpus": os.cpu_count()},

@@ -13,8 +13,10 @@ installed (the tasks import it by name).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from typing import Any
 
 from threadpoolctl import threadpool_limits
@@ -27,11 +29,13 @@ ENGINES = ("local", "ray")
 INSTALL_HINT = 'pip install -e ".[cluster]"'
 
 
-def make_executor(engine: str = "local", workers: int = 1,
-                  address: str | None = None) -> Executor:
+def make_executor(engine: str = "local", workers: int = 1, address: str | None = None,
+                  isolated: bool = False) -> Executor:
     """The executor of an engine: ``local`` (a process pool of ``workers``) or ``ray`` (a new
     local Ray instance of ``workers`` CPUs, or the running cluster at ``address``: ``auto`` or
-    ``HOST:PORT``). Every value is checked here; Ray is imported only when it is opened."""
+    ``HOST:PORT``); ``isolated``: every job in a fresh process of its own (for work that sets
+    process-wide state once, such as OMPL's seed). Every value is checked here; Ray is imported
+    only when it is opened."""
     if engine not in ENGINES:
         raise ConfigError(f"engine = {engine!r} is not allowed (use "
                           f"{' or '.join(map(repr, ENGINES))})")
@@ -39,8 +43,31 @@ def make_executor(engine: str = "local", workers: int = 1,
         if address is not None:
             raise ConfigError(f"address = {address!r} needs engine = 'ray' (the local pool "
                               "has no address)")
-        return LocalExecutor(workers)
-    return RayExecutor(workers, address)
+        return LocalExecutor(workers, isolated=isolated)
+    return RayExecutor(workers, address, isolated=isolated)
+
+
+@dataclass(frozen=True)
+class Engine:
+    """Where a study's independent jobs run: its name (``local`` or ``ray``), the processes or
+    CPUs of a local run and a Ray cluster's address. Checked when made; each part opens its own
+    executor from it (:meth:`executor`), so one engine serves the whole study."""
+
+    name: str = "local"
+    workers: int = 1
+    address: str | None = None
+
+    def __post_init__(self):
+        make_executor(self.name, self.workers, self.address)  # every value checked here
+
+    def executor(self, isolated: bool = False) -> Executor:
+        """A new executor of this engine (open it with ``with``)."""
+        return make_executor(self.name, self.workers, self.address, isolated)
+
+    def session(self):
+        """A context that keeps the engine up across parts: Ray is started (or joined) once,
+        and every executor opened inside uses it; the local pool needs nothing."""
+        return self.executor() if self.name == "ray" else contextlib.nullcontext()
 
 
 def _pinned(func: Callable[[Any], Any], job: Any) -> Any:
@@ -67,12 +94,15 @@ class RayExecutor:
         workers: CPUs of the local Ray instance started when there is no ``address`` (ignored
             when joining a cluster, whose own CPUs are used).
         address: ``auto`` (the cluster this machine belongs to) or ``HOST:PORT`` of a running
-            cluster's head; ``None`` starts a local instance and stops it on exit.
+            cluster's head; ``None`` starts a local instance and stops it on exit (unless Ray
+            was already running in this process: then it is used and left running).
+        isolated: a worker process of its own for every task (Ray's ``max_calls=1``).
     """
 
-    def __init__(self, workers: int = 1, address: str | None = None):
+    def __init__(self, workers: int = 1, address: str | None = None, isolated: bool = False):
         self.workers = check_workers(workers)
         self.address = check_address(address)
+        self.isolated = isolated
         self._ray = None
         self._remote = None
         self._started = False
@@ -96,7 +126,7 @@ class RayExecutor:
                     raise ConfigError(f"address = {self.address!r}: no Ray cluster answers "
                                       f"there ({str(exc).splitlines()[0]})") from None
             self._started = True
-        self._remote = ray.remote(num_cpus=1)(_pinned)
+        self._remote = ray.remote(num_cpus=1, max_calls=1 if self.isolated else 0)(_pinned)
         return self
 
     def __exit__(self, *exc) -> None:

@@ -13,15 +13,15 @@ from __future__ import annotations
 import math
 import zlib
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..envs.handover_env import HandoverEnv
 from ..envs.scores import LandscapeScores, objective_values
-from ..errors import ConfigError
-from ..landscape.cache import Landscape
+from ..landscape.grid import Grid
+from ..landscape.store import landscape_of
+from ..learning.agents import agent, run_agent
 from ..learning.rollouts import (
     network_policy,
     random_policy,
@@ -29,24 +29,9 @@ from ..learning.rollouts import (
     step_limit,
     table_policy,
 )
-from ..learning.runner import AGENTS, run_agent
 from ..learning.targets import TargetCells, evaluations_to_target, target_cells
 from ..learning.trace import Budget, best_locations
-
-STUDY_AGENTS = ("qlearning", "qlearning-adaptive", "dqn", "randomwalk", "random", "hillclimb")
-"""The study's agents: the runner's, with Q-learning under both temperatures as two agents."""
-LEARNERS = ("qlearning", "qlearning-adaptive", "dqn")
-"""Agents with a policy to roll out; the random walk is rolled out beside them."""
-
-
-def agent_and_temperature(agent: str) -> tuple[str, str]:
-    """The runner's agent and Q-learning temperature of a study agent."""
-    if agent not in STUDY_AGENTS:
-        raise ConfigError(f"agent = {agent!r} is not allowed (use {', '.join(STUDY_AGENTS)})")
-    if agent == "qlearning-adaptive":
-        return "qlearning", "adaptive"
-    assert agent in AGENTS
-    return agent, "fixed"
+from ..twin.evaluate import Evaluator
 
 
 @dataclass(frozen=True)
@@ -54,9 +39,10 @@ class RunJob:
     """One run of the study.
 
     Attributes:
-        target: the target's name; ``landscape`` its landscape file, ``objective`` and
-            ``goal`` what the agents minimise and which cells count.
-        agent: a study agent (:data:`STUDY_AGENTS`).
+        target: the target's name; ``evaluator`` and ``grid`` its landscape (read through the
+            landscape door, once per process), ``objective`` and ``goal`` what the agents
+            minimise and which cells count.
+        agent: an agent of the registry (:data:`~..learning.agents.AGENTS`).
         budget: the budget's name; ``steps`` or ``time_cap_s`` its size.
         run: the run's number within its (target, agent, budget).
         seed: the run's own seed (:func:`run_seed`).
@@ -67,7 +53,8 @@ class RunJob:
     """
 
     target: str
-    landscape: str
+    evaluator: Evaluator
+    grid: Grid
     objective: str
     goal: str
     agent: str
@@ -95,40 +82,34 @@ def rollout_seed(study_seed: int, target: str) -> int:
                .generate_state(1)[0])
 
 
-_CACHE: dict[tuple, object] = {}
+_TARGETS: dict[tuple, tuple[LandscapeScores, TargetCells]] = {}
 
 
-def _cached(key: tuple, make):
-    """One landscape, score table and target per process (a worker runs many jobs)."""
-    if key not in _CACHE:
-        _CACHE[key] = make()
-    return _CACHE[key]
-
-
-def target_of(landscape_file: str, objective: str, goal: str) -> tuple[LandscapeScores,
-                                                                        TargetCells]:
-    """The score table the agents read and the target cells, built once per process."""
-    landscape = _cached(("landscape", landscape_file), lambda: Landscape.load(Path(
-        landscape_file)))
-    scores = _cached(("scores", landscape_file, objective),
-                     lambda: LandscapeScores(landscape, objective))
-    target = _cached(("target", landscape_file, objective, goal), lambda: target_cells(
-        HandoverEnv(scores), objective_values(landscape, objective), goal))
-    return scores, target
+def target_of(evaluator: Evaluator, grid: Grid, objective: str,
+              goal: str) -> tuple[LandscapeScores, TargetCells]:
+    """The score table the agents read and the target cells, built once per process (a worker
+    runs many jobs on one landscape)."""
+    landscape = landscape_of(evaluator, grid, progress=False)
+    key = (landscape.key, objective, goal)
+    if key not in _TARGETS:
+        scores = LandscapeScores(landscape, objective)
+        _TARGETS[key] = scores, target_cells(HandoverEnv(scores),
+                                             objective_values(landscape, objective), goal)
+    return _TARGETS[key]
 
 
 def run_job(job: RunJob) -> dict:
     """Run one job; returns its row of ``runs.csv`` and its trace."""
-    scores, target = target_of(job.landscape, job.objective, job.goal)
-    agent, temperature = agent_and_temperature(job.agent)
-    env = HandoverEnv(scores, observation="position" if agent == "dqn" else "indices",
+    scores, target = target_of(job.evaluator, job.grid, job.objective, job.goal)
+    env = HandoverEnv(scores, observation=agent(job.agent).observation,
                       episode_end=job.episode_end)
     budget = Budget(job.time_cap_s, job.steps,
                     stop_score=target.score if job.oracle_stop else None)
-    result, _ = run_agent(agent, env, budget, job.seed, temperature)
+    result, _ = run_agent(job.agent, env, budget, job.seed)
     reached_at = evaluations_to_target(result, target)
     found = best_locations(result, env.location)
-    row = {k: v for k, v in asdict(job).items() if k not in ("landscape", "rollout_seed")}
+    row = {k: v for k, v in asdict(job).items()
+           if k not in ("evaluator", "grid", "rollout_seed")}
     row.update(
         target_score=target.score, best_score=result.best_score,
         found_x=found["x"].iloc[0] if len(found) else math.nan,
@@ -147,11 +128,12 @@ def run_job(job: RunJob) -> dict:
 def rollouts_of(job: RunJob, env: HandoverEnv, result, target: TargetCells) -> dict:
     """Greedy rollouts of the run's final policy (the random walk's for ``randomwalk``) from
     the target's shared starts; the rollouts' own ties are broken with the run's seed."""
-    if job.agent == "randomwalk":
+    kind = agent(job.agent).policy
+    if kind == "random":
         policy = random_policy
-    elif job.agent == "dqn":
+    elif kind == "network":
         policy = network_policy(result.model, env)
-    elif result.q_table is not None:
+    elif kind == "table" and result.q_table is not None:
         policy = table_policy(result.q_table, env.grid.size)
     else:
         return {}

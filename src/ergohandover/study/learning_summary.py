@@ -47,15 +47,25 @@ def summary(runs: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+COMPARISON_COLUMNS = ("target", "budget", "agent", "versus", "n_agent", "n_versus",
+                      "successes_agent", "successes_versus", "median_agent", "median_versus",
+                      "p_mannwhitney", "cliffs_delta", "p_fisher", "verdict")
+
+
 def comparisons(runs: pd.DataFrame, learners: tuple[str, ...]) -> pd.DataFrame:
     """Each learner against each reference agent, per target and budget, on evaluations to
-    the target (censored runs last): p-values and Cliff's delta (> 0: the learner sooner)."""
+    the target (censored runs last): p-values and Cliff's delta (> 0: the learner sooner).
+    Where no reference agent ran (the paper's own protocol: Q-learning and DQN), the first
+    learner is compared with each other learner instead."""
+    ran = set(runs["agent"])
+    references = [r for r in REFERENCES if r in ran] or list(learners[1:])
+    learners = learners if any(r in ran for r in REFERENCES) else learners[:1]
     rows = []
     for (target, budget), group in runs.groupby(["target", "budget"], sort=False):
         by_agent = {a: g["evaluations_to_target"].to_numpy(dtype=float)
                     for a, g in group.groupby("agent")}
         for learner in learners:
-            for reference in REFERENCES:
+            for reference in references:
                 if learner not in by_agent or reference not in by_agent:
                     continue
                 a, b = by_agent[learner], by_agent[reference]
@@ -67,7 +77,7 @@ def comparisons(runs: pd.DataFrame, learners: tuple[str, ...]) -> pd.DataFrame:
                              "median_agent": censored_median(a),
                              "median_versus": censored_median(b), **test,
                              "verdict": verdict(test)})
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=list(COMPARISON_COLUMNS))
 
 
 def verdict(test: dict, alpha: float = 0.05) -> str:
@@ -77,9 +87,15 @@ def verdict(test: dict, alpha: float = 0.05) -> str:
     return "better" if test["cliffs_delta"] > 0 else "worse"
 
 
+CURVE_COLUMNS = ("target", "agent", "budget", "evaluations", "reached_share", "reached_low",
+                 "reached_high", "mean_best", "best_low", "best_high")
+
+
 def curves(runs: pd.DataFrame, traces: pd.DataFrame, seed: int) -> pd.DataFrame:
     """Per step-budgeted cell, at log-spaced evaluation counts: the share of runs that have
-    reached the target and the mean best score so far, each with a 95 % bootstrap band."""
+    reached the target and the mean best score so far, each with a 95 % bootstrap band (no rows
+    when every budget is a wall-clock cap, as in the paper's own protocol: runs that stop at a
+    time do not share an evaluation axis)."""
     rng = np.random.default_rng(seed)
     frames = []
     runs = runs[runs["steps"].notna()]
@@ -104,6 +120,8 @@ def curves(runs: pd.DataFrame, traces: pd.DataFrame, seed: int) -> pd.DataFrame:
             "target": target, "agent": agent, "budget": budget, "evaluations": at,
             "reached_share": share, "reached_low": share_low, "reached_high": share_high,
             "mean_best": mean, "best_low": mean_low, "best_high": mean_high}))
+    if not frames:
+        return pd.DataFrame(columns=CURVE_COLUMNS)
     return pd.concat(frames, ignore_index=True)
 
 

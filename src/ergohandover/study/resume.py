@@ -1,6 +1,13 @@
-"""Parts of a study run: each writes into its own results folder and finishes by writing a
-``manifest.json`` that records the hash of its configuration; a part whose manifest matches is
-done and is reused (so an interrupted ``run_all`` resumes where it stopped)."""
+"""A study part is resumable: it writes into its own results folder and finishes by writing a
+``manifest.json`` that records the hash of what its results depend on; a part whose manifest
+matches is done and is reused (so an interrupted ``run_all`` resumes where it stopped, and a
+fresh clone reuses every committed part).
+
+What decides reuse (:func:`part_hash`): the part's inputs from the typed study configuration
+(:meth:`~.config.StudyConfig.part_inputs`), the package version and the source code of the twin
+and the scorers (:func:`~ergohandover.landscape.cache.twin_code_version`), so a change to the
+model reruns every part.
+"""
 
 from __future__ import annotations
 
@@ -16,106 +23,50 @@ from ..io.manifest import write_manifest
 from ..landscape.cache import twin_code_version
 
 
-def config_hash(config: dict[str, Any]) -> str:
-    """A short hash of a part's configuration, the package version and the twin's code (so that
-    a change to the model reruns every part: results change when the twin changes)."""
-    text = json.dumps({"config": config, "version": __version__,
-                       "code": twin_code_version()}, sort_keys=True)
+def part_hash(inputs: dict[str, Any]) -> str:
+    """A short hash of a part's inputs, the package version and the twin's code."""
+    text = json.dumps({"config": inputs, "version": __version__, "code": twin_code_version()},
+                      sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-READS = {"baselines": ("learning",)}
-"""Parts that read another part's results besides the landscape's: the baselines carry the box
-to the location the learner found."""
-
-
-def part_config(config: dict[str, Any], part: str) -> dict[str, Any]:
-    """What a part's results depend on: its own section of the study configuration and, for
-    every part after it, the landscape's (they all read the landscape) and those of the parts
-    whose results it reads (:data:`READS`)."""
-    own = dict(config[part])
-    if part == "landscape":
-        return own
-    return {**own, "landscape": config["landscape"],
-            **{name: config[name] for name in READS.get(part, ())}}
-
-
-def is_done(folder: Path, config: dict[str, Any]) -> bool:
-    """True when ``folder`` holds a finished part made with this configuration and code."""
+def is_done(folder: Path, inputs: dict[str, Any]) -> bool:
+    """True when ``folder`` holds a finished part made with these inputs and this code."""
     try:
         manifest = json.loads((folder / "manifest.json").read_text())
     except (OSError, ValueError):
         return False
-    return manifest.get("part_hash") == config_hash(config)
+    return manifest.get("part_hash") == part_hash(inputs)
 
 
-def run_part(name: str, folder: Path, config: dict[str, Any],
+def run_part(name: str, folder: Path, inputs: dict[str, Any],
              work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
-             force: bool = False) -> bool:
+             force: bool = False, engine: Any = None) -> bool:
     """Run ``work(folder)`` unless the part is already done; then write its manifest.
 
     Args:
         name: the part's name (for messages).
         folder: where the part writes its results.
-        config: the part's resolved configuration (hashed into the manifest).
+        inputs: what the part's results depend on (hashed into the manifest, recorded whole).
         work: does the part; may return extra figures for the manifest.
         seeds: every seed used.
         force: run even if done.
+        engine: where its jobs ran (recorded).
 
     Returns:
         True if the part ran, False if it was reused.
     """
-    if not force and is_done(folder, config):
+    if not force and is_done(folder, inputs):
         print(f"[{name}] reusing finished results in {folder}")
         return False
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "manifest.json").unlink(missing_ok=True)  # not done until it is rewritten
     start = time.perf_counter()
     extra = work(folder) or {}
-    write_manifest(folder, config={"part": name, **config}, seeds=seeds or {},
+    where = {"engine": {"name": engine.name, "workers": engine.workers,
+                        "address": engine.address}} if engine is not None else {}
+    write_manifest(folder, config={"part": name, **inputs}, seeds=seeds or {},
                    wall_time_s=time.perf_counter() - start,
-                   extra={"part_hash": config_hash(config), **extra})
+                   extra={"part_hash": part_hash(inputs), "code_hash": twin_code_version(),
+                          **where, **extra})
     return True
-
-
-def study_parser(doc: str, root: Path):
-    """The options every ``experiments/study_<part>.py`` takes: ``--config``, ``--results``
-    and ``--workers`` (a part adds its own to the parser returned)."""
-    import argparse
-    import os
-
-    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=root / "experiments/configs/default.json",
-                        help="study configuration (default: experiments/configs/default.json)")
-    parser.add_argument("--results", type=Path, default=root / "results",
-                        help="results folder (default: results/)")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes (default: all cores)")
-    return parser
-
-
-def study_main(run: Callable[..., None], doc: str, root: Path, parser=None,
-               prepare: Callable[[Any, dict], tuple[dict, dict]] | None = None) -> None:
-    """Run one part alone (always, even if finished) from the command line of
-    :func:`study_parser`, or of ``parser`` (one the part extended), whose own options
-    ``prepare(args, config)`` turns into (the configuration, keyword arguments of ``run``);
-    a bad value ends it with one line and exit code 2."""
-    import sys
-
-    from ..errors import ErgohandoverError
-
-    args = (parser or study_parser(doc, root)).parse_args()
-    try:
-        config = json.loads(args.config.read_text())
-    except (OSError, ValueError) as exc:
-        print(f"{Path(sys.argv[0]).stem}: error: config = '{args.config}' is not a readable "
-              f"JSON file ({type(exc).__name__})", file=sys.stderr)
-        sys.exit(2)
-    options = {}
-    if prepare:
-        config, options = prepare(args, config)
-    try:
-        run(config, args.results, args.workers, force=True, **options)
-    except ErgohandoverError as exc:
-        print(f"{Path(sys.argv[0]).stem}: error: {exc}", file=sys.stderr)
-        sys.exit(2)

@@ -1,0 +1,267 @@
+"""The study's one typed configuration: a frozen dataclass per part, the defaults here and only
+here, parsed once from ``experiments/configs/*.json`` (which list what differs from the
+defaults) and checked at start-up.
+
+Every unknown key and every bad value is refused with one line naming its key path, the value and
+what is allowed (:mod:`.typed_json`); the cross-references between parts (a target that a
+budget or the baselines name, a worker name) are checked here. What a part's results depend on
+(:meth:`StudyConfig.part_inputs`) is hashed from this typed form, defaults included, so a
+configuration file that spells a default out and one that leaves it out are the same study.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+from typing import Any
+
+from ..envs.scores import LEXICOGRAPHIC, OBJECTIVES
+from ..errors import ConfigError
+from ..learning.agents import AGENTS
+from ..learning.targets import GOALS
+from ..twin.anthropometry import PERCENTILES, BodySpec
+from ..twin.evaluate import Evaluator
+from ..twin.task import TaskSpec
+from .typed_json import from_json, setting, short
+from .workforce import Workforce
+
+BOUNDARIES = ("paper-code", "body")
+GAZES = ("on", "off")
+WORKERS = tuple(sorted(PERCENTILES))
+EPISODE_ENDS = ("none", "paper")
+
+
+@dataclasses.dataclass(frozen=True)
+class LandscapeVariants:
+    """The landscape's statistics under each boundary and gaze setting, on a coarser grid."""
+
+    boundaries: tuple[str, ...] = setting(("paper-code", "body"), choices=BOUNDARIES)
+    gaze: tuple[str, ...] = setting(("on", "off"), choices=GAZES)
+    step: float = setting(0.01, positive=True, unit="m")
+
+
+@dataclasses.dataclass(frozen=True)
+class LandscapeConfig:
+    """The default worker's exhaustive landscape: the paper's grid (paper-code boundary, 3 mm)."""
+
+    boundary: str = setting("paper-code", choices=BOUNDARIES)
+    step: float = setting(0.003, positive=True, unit="m")
+    gaze: str = setting("on", choices=GAZES)
+    variants: LandscapeVariants = setting(LandscapeVariants())
+
+
+@dataclasses.dataclass(frozen=True)
+class GridOverride:
+    """A target's own boundary or step (null: the landscape's)."""
+
+    boundary: str | None = setting(None, choices=BOUNDARIES)
+    step: float | None = setting(None, positive=True, unit="m")
+
+
+@dataclasses.dataclass(frozen=True)
+class Target:
+    """A landscape, the objective the agents minimise on it and which cells count as found."""
+
+    name: str = setting()
+    objective: str = setting("paper_postural", choices=(*OBJECTIVES, LEXICOGRAPHIC))
+    goal: str = setting("minimum", choices=GOALS)
+    worker: str = setting("p50-male", choices=WORKERS)
+    gaze: str | None = setting(None, choices=GAZES)
+    grid: GridOverride = setting(GridOverride())
+
+
+DEFAULT_TARGETS = (
+    Target("paper", goal="minimum"), Target("paper-reward", goal="reward"),
+    Target("reba", "reba"), Target("reba_ab", "reba_ab"), Target("rula", "rula"),
+    Target("gaze-off", gaze="off", grid=GridOverride(step=0.01)),
+    Target("body", grid=GridOverride("body", 0.01)),
+    Target("p5-female", worker="p5-female", grid=GridOverride(step=0.006)),
+    Target("lexicographic", LEXICOGRAPHIC, "reward"))
+
+
+@dataclasses.dataclass(frozen=True)
+class LearningConfig:
+    """Every agent on every target and budget; ``budgets`` in evaluations (the paper's 2- and
+    5-minute caps at its ~315 evaluations per second), ``wall_caps_s`` of wall clock on the
+    ``wall_targets`` (the paper's own protocol: configs/paper.json)."""
+
+    seed: int = setting(2024, lo=0)
+    runs: int = setting(10, lo=1)
+    agents: tuple[str, ...] = setting(tuple(AGENTS), choices=tuple(AGENTS))
+    budgets: dict[str, int] = setting({"paper-2min": 37_800, "paper-5min": 94_500}, lo=1)
+    wall_caps_s: tuple[float, ...] = setting((2.0, 5.0), positive=True, unit="s")
+    wall_targets: tuple[str, ...] = setting(("paper", "lexicographic"))
+    dqn_targets: tuple[str, ...] = setting(("paper", "lexicographic"))
+    rollouts: int = setting(20, lo=0)
+    oracle_stop: bool = setting(False)
+    episode_end: str = setting("none", choices=EPISODE_ENDS)
+    targets: tuple[Target, ...] = setting(DEFAULT_TARGETS)
+
+
+@dataclasses.dataclass(frozen=True)
+class LearnedLocation:
+    """The learning part's run whose best location the baselines carry the box to."""
+
+    target: str = setting("paper")
+    agent: str = setting("qlearning", choices=tuple(AGENTS))
+    budget: str = setting("paper-5min")
+
+
+@dataclasses.dataclass(frozen=True)
+class BaselinesConfig:
+    render: bool = setting(True)
+    seed: int = setting(0, lo=0)
+    other_starts: int = setting(5, lo=0)
+    starts_seed: int = setting(2026, lo=0)
+    reach: dict[str, float] = setting({"paper-code": 0.04, "body": 0.05}, positive=True,
+                                      unit="m")
+    location: LearnedLocation = setting(LearnedLocation())
+
+
+@dataclasses.dataclass(frozen=True)
+class AblationsConfig:
+    ik_boundary: str = setting("paper-code", choices=BOUNDARIES)
+    ik_step: float = setting(0.015, positive=True, unit="m")
+
+
+@dataclasses.dataclass(frozen=True)
+class ParticipantsConfig:
+    workers: tuple[str, ...] = setting(("p5-female", "p50-female", "p95-female", "p5-male",
+                                        "p50-male", "p95-male"), choices=WORKERS)
+    step: float = setting(0.006, positive=True, unit="m")
+
+
+@dataclasses.dataclass(frozen=True)
+class PopulationConfig:
+    size: int = setting(Workforce.size, lo=1)
+    seed: int = setting(Workforce.seed, lo=0)
+    female_share: float = setting(Workforce.female_share, lo=0, hi=1)
+    reference: str = setting("p50-male", choices=WORKERS)
+    boundary: str = setting("paper-code", choices=BOUNDARIES)
+    step: float = setting(0.01, positive=True, unit="m")
+    bootstrap: int = setting(2000, lo=1)
+    bootstrap_seed: int = setting(7, lo=0)
+
+
+@dataclasses.dataclass(frozen=True)
+class SensitivityConfig:
+    step: float = setting(0.01, positive=True, unit="m")
+
+
+@dataclasses.dataclass(frozen=True)
+class ValidationConfig:
+    optimum_of: str = setting("paper_postural", choices=OBJECTIVES)
+
+
+READS = {"baselines": ("learning",)}
+"""Parts that read another part's results besides the landscape's: the baselines carry the box
+to the location the learner found."""
+
+
+@dataclasses.dataclass(frozen=True)
+class StudyConfig:
+    """The whole study: one section per part."""
+
+    landscape: LandscapeConfig = setting(LandscapeConfig())
+    learning: LearningConfig = setting(LearningConfig())
+    baselines: BaselinesConfig = setting(BaselinesConfig())
+    ablations: AblationsConfig = setting(AblationsConfig())
+    participants: ParticipantsConfig = setting(ParticipantsConfig())
+    population: PopulationConfig = setting(PopulationConfig())
+    sensitivity: SensitivityConfig = setting(SensitivityConfig())
+    validation: ValidationConfig = setting(ValidationConfig())
+
+    def __post_init__(self):
+        learning = self.learning
+        names = [t.name for t in learning.targets]
+        if not names:
+            raise ConfigError("learning.targets = [] is not allowed (expected at least one "
+                              "target)")
+        if len(set(names)) < len(names):
+            twice = next(n for n in names if names.count(n) > 1)
+            raise ConfigError(f"learning.targets: name = {twice!r} is given twice (a target's "
+                              "name is its key)")
+        for key in ("wall_targets", "dqn_targets"):
+            for name in getattr(learning, key):
+                if name not in names:
+                    raise ConfigError(f"learning.{key} = {name!r} names no target (use "
+                                      f"{', '.join(names)})")
+        if not learning.budgets and not (learning.wall_caps_s and learning.wall_targets):
+            raise ConfigError("learning.budgets = {} is not allowed without wall_caps_s and "
+                              "wall_targets (every run needs a budget)")
+        spec = self.baselines.location
+        budgets = self.budget_names(spec.target)
+        for key, value, allowed in (("target", spec.target, names),
+                                    ("agent", spec.agent, learning.agents),
+                                    ("budget", spec.budget, budgets)):
+            if value not in allowed:
+                raise ConfigError(f"baselines.location.{key} = {value!r} names no run of the "
+                                  f"learning part (use {', '.join(allowed) or 'none'})")
+
+    @classmethod
+    def from_dict(cls, data: Any) -> StudyConfig:
+        """The study of a parsed JSON object (ConfigError for any bad key or value)."""
+        return from_json(cls, data)
+
+    @classmethod
+    def load(cls, path: Path, overrides: tuple[str, ...] = ()) -> StudyConfig:
+        """The study of a configuration file, with ``KEY=VALUE`` overrides (``--set``)."""
+        try:
+            data = json.loads(Path(path).read_text())
+        except (OSError, ValueError) as exc:
+            raise ConfigError(f"config = '{path}' is not a readable JSON file "
+                              f"({type(exc).__name__})") from None
+        for item in overrides:
+            apply_override(data, item)
+        return cls.from_dict(data)
+
+    def budget_names(self, target: str) -> list[str]:
+        """The names of every budget a target's runs get: the step budgets, and the wall-clock
+        caps (``wall-<s>s``) on a wall target."""
+        learning = self.learning
+        names = list(learning.budgets)
+        if target in learning.wall_targets:
+            names += [wall_budget_name(cap) for cap in learning.wall_caps_s]
+        return names
+
+    def part_inputs(self, part: str) -> dict[str, Any]:
+        """What a part's results depend on (hashed into its manifest): its own section and, for
+        every part after it, the landscape's (they all read the landscape) and those of the
+        parts whose results it reads (:data:`READS`)."""
+        sections = (part,) if part == "landscape" else (part, "landscape", *READS.get(part, ()))
+        return {name: dataclasses.asdict(getattr(self, name)) for name in sections}
+
+    def task(self, gaze: str | None = None) -> TaskSpec:
+        """The study's task: the default box, with the landscape's gaze (or ``gaze``)."""
+        return TaskSpec(gaze=gaze or self.landscape.gaze)
+
+    def evaluator(self, worker: str = "p50-male", gaze: str | None = None) -> Evaluator:
+        """The study's evaluator of a named worker: the default model with the study's task."""
+        return Evaluator(BodySpec.from_percentile(worker), self.task(gaze))
+
+
+def wall_budget_name(cap_s: float) -> str:
+    """The budget name of a wall-clock cap: ``wall-120s``."""
+    return f"wall-{cap_s:g}s"
+
+
+def apply_override(data: dict, item: str) -> None:
+    """Set ``KEY.PATH=VALUE`` in ``data`` (VALUE as JSON, else as a string)."""
+    key, sep, text = item.partition("=")
+    if not sep or not key:
+        raise ConfigError(f"set = {short(item)} is not allowed (expected KEY=VALUE, e.g. "
+                          "learning.runs=20)")
+    try:
+        value = json.loads(text)
+    except ValueError:
+        value = text
+    *parents, last = key.split(".")
+    node = data
+    for name in parents:
+        child = node.get(name, {}) if isinstance(node, dict) else None
+        if not isinstance(child, dict):
+            raise ConfigError(f"set = {short(item)}: {key} does not name a setting")
+        node[name] = child
+        node = child
+    node[last] = value

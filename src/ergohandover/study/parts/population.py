@@ -1,0 +1,118 @@
+"""Study part `population`: one handover location for everyone, or one per worker?
+
+A workforce is drawn from the ANSUR II survey's statistics (size, seed and sex mix in the
+configuration); every worker, and the reference worker (the 50th-percentile man), gets a
+landscape on one shared grid, swept through the study's engine: the local process pool or Ray.
+Landscapes stream into the landscape cache as they finish, so a killed run resumes without
+redoing finished workers.
+
+Writes results/population/:
+  workers.csv     each worker's body, elbow height, own optimum per objective (paper score,
+                  REBA, RULA: score, location, how many cells share it, the median height of
+                  those cells, the optimum's distance from the height-against-stature line)
+                  and whether the default robot can hold the box at the paper-score optimum
+  penalties.csv   each worker at each one-size location (the reference's optimum, the lowest
+                  mean, the lowest 95th percentile): the three scores there and the penalty
+  one_size.csv    per objective and choice: the location, the workforce's mean and 95th-percentile
+                  score, mean penalty (bootstrap 95 % interval), share penalised (Wilson 95 %)
+  groups.csv      the same by sex and stature band: who pays
+  height_fit.csv  the optimum's height against stature and elbow height (line, R², residuals,
+                  slope interval) and its offset from elbow height
+  working_heights.csv  how many workers' optima (paper score) lie in each published range of
+                  standing working height below the elbow (the validation's sources)
+  manifest.json
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ...io.atomic import atomic_write_csv
+from ...landscape.grid import Grid
+from ...landscape.stats import optimum
+from ...landscape.store import landscapes_of
+from ...scene.robot import RobotSpec
+from ...twin.anthropometry import BodySpec
+from ...twin.evaluate import Evaluator
+from ..config import PopulationConfig, StudyConfig
+from ..engines import Engine
+from ..population_analysis import OBJECTIVES, analyse
+from ..reachability import holds
+from ..resume import run_part
+from ..validation import elbow_height
+from ..workforce import Workforce, bodies, sample_workforce
+from .shared import grid_of, where
+
+
+def workforce_of(part: PopulationConfig) -> pd.DataFrame:
+    """The sampled workers and, last, the reference worker, with their elbow heights."""
+    table = sample_workforce(Workforce(part.size, part.seed, part.female_share))
+    table["reference"] = 0
+    reference = BodySpec.from_percentile(part.reference)
+    table.loc[len(table)] = {"worker": part.reference, "sex": reference.sex,
+                             "stature_m": reference.stature_m, "mass_kg": reference.mass_kg,
+                             "reference": 1}
+    table["elbow_height_m"] = [round(elbow_height(b), 6) for b in bodies(table)]
+    return table
+
+
+def sweep_scores(grid: Grid, evaluators: list[Evaluator],
+                 engine: Engine) -> tuple[dict, pd.DataFrame, dict]:
+    """Every worker's scores on the grid (int8, -1 infeasible), its own optimum per objective,
+    and how the sweep went (reused and computed workers, engine, seconds)."""
+    matrices = {o: np.empty((len(evaluators), grid.size), dtype=np.int8) for o in OBJECTIVES}
+    optima: list[dict] = [{} for _ in evaluators]
+    reused = 0
+    start = time.perf_counter()
+    for done in landscapes_of(evaluators, grid, **where(engine)):
+        reused += done.reused
+        for objective in OBJECTIVES:
+            matrices[objective][done.index] = done.landscape.arrays[objective]
+            cells, best = optimum(done.landscape, objective)
+            points = grid.coordinates(cells)  # every cell at the optimum; best is one
+            optima[done.index] |= {
+                f"{objective}_opt": int(done.landscape.arrays[objective][cells[0]]),
+                **{f"{objective}_{a}": round(float(best[k]), 6) for k, a in enumerate("xyz")},
+                f"{objective}_cells": len(cells),
+                f"{objective}_cell": int(cells[(points == best).all(axis=1)][0]),
+                f"{objective}_region_y": round(float(np.median(points[:, 1])), 6)}
+    sweep = {"workers_reused": reused, "workers_computed": len(evaluators) - reused,
+             "sweep_seconds": round(time.perf_counter() - start, 1)}
+    return matrices, pd.DataFrame(optima), sweep
+
+
+def robot_serves(table: pd.DataFrame, evaluators: list[Evaluator], workers: int) -> pd.DataFrame:
+    """Can the default robot hold the box at each worker's paper-score optimum?"""
+    held = [holds(row[["paper_postural_x", "paper_postural_y", "paper_postural_z"]]
+                  .to_numpy(dtype=float)[None], evaluator, RobotSpec(), workers).iloc[0]
+            for (_, row), evaluator in zip(table.iterrows(), evaluators, strict=True)]
+    return pd.DataFrame({"robot_held": [int(h["held"]) for h in held],
+                         "robot_reason": [h["reason"] for h in held]})
+
+
+def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
+    part = config.population
+
+    def work(folder: Path) -> dict:
+        table = workforce_of(part)
+        task = config.task()
+        evaluators = [Evaluator(body, task) for body in bodies(table)]
+        # One grid for everyone (a one-size location must be a point of every landscape):
+        # the boundary as drawn for the reference worker.
+        grid = grid_of(evaluators[-1], part.boundary, part.step)
+        print(f"  {len(table) - 1} workers and {part.reference} on {grid.describe()} "
+              f"({engine.name} engine)")
+        matrices, optima, sweep = sweep_scores(grid, evaluators, engine)
+        table = pd.concat([table, optima], axis=1)
+        table = pd.concat([table, robot_serves(table, evaluators, engine.workers)], axis=1)
+        for name, frame in analyse(table, matrices, grid, part).items():
+            atomic_write_csv(frame, folder / f"{name}.csv")
+        return {"grid": grid.describe(), **sweep}
+
+    return run_part("population", results / "population", config.part_inputs("population"),
+                    work, seeds={"workforce": part.seed, "bootstrap": part.bootstrap_seed},
+                    force=force, engine=engine)
