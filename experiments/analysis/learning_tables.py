@@ -1,7 +1,8 @@
 """The learning study's tables in Markdown, from results/learning/ only: each target, the
 verdicts (does a learner beat the random walk and random sampling at the paper-matched
 budgets?), every agent's success rate, and the greedy rollouts. make_tables.py puts them into
-results/tables.md; the README carries the verdicts and a test keeps the two equal."""
+results/tables.md; docs/report.md carries the verdicts (README.md the headline claim) and a
+test keeps them equal."""
 
 from __future__ import annotations
 
@@ -10,9 +11,9 @@ import math
 import pandas as pd
 from readme_blocks import rewrite
 
-AGENT_NAMES = {"qlearning": "Q-learning (τ 0.7)", "qlearning-adaptive": "Q-learning (adaptive τ)",
-               "dqn": "DQN", "randomwalk": "random walk", "random": "random sampling",
-               "hillclimb": "hill-climbing"}
+from ergohandover.learning.agents import AGENTS
+
+AGENT_NAMES = {name: agent.label for name, agent in AGENTS.items()}
 
 
 def rate(successes: int, n: int, low: float, high: float) -> str:
@@ -111,11 +112,12 @@ def rollouts_table(summary: pd.DataFrame) -> list[str]:
 
 BLOCKS = ("learning-claim", "learning-targets", "learning-tally", "learning-verdicts",
           "learning-rollouts")
-"""The README's generated blocks, each between ``<!-- name -->`` and ``<!-- /name -->``."""
+"""The generated blocks, each between ``<!-- name -->`` and ``<!-- /name -->`` in README.md or
+docs/report.md."""
 
 
 def blocks(results) -> dict[str, str]:
-    """Each README block's text, from ``results``/learning/ only."""
+    """Each generated block's text, from ``results``/learning/ only."""
     folder = results / "learning"
     read = lambda name: pd.read_csv(folder / name, keep_default_na=False,  # noqa: E731
                                     na_values=[""])
@@ -131,7 +133,7 @@ def blocks(results) -> dict[str, str]:
 
 
 def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> str:
-    """The README's answer to the paper's claim that every run reaches the minimum."""
+    """The headline table's answer to the paper's claim that every run reaches the minimum."""
     at = summary[summary["target"] == target].set_index(["agent", "budget"])
     counts = {a: " and ".join(f"{int(at.loc[(a, b), 'successes'])}/"
                               f"{int(at.loc[(a, b), 'n_runs'])}" for b in budgets)
@@ -165,7 +167,8 @@ def tally(comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
 
 
 def main() -> None:
-    """Rewrite the README's learning blocks from results/ (run after the study)."""
+    """Rewrite the learning blocks from results/ wherever each lives, README.md or
+    docs/report.md (run after the study)."""
     from common import RESULTS
 
     rewrite(blocks(RESULTS))

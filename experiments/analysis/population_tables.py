@@ -1,8 +1,8 @@
 """The population study's tables in Markdown, from results/population/ only: what one-size
 handover locations cost the workforce against personalised ones, who pays, and how the
-optimum's height follows body size. make_tables.py puts them into results/tables.md; the README
-carries them and a test keeps the two equal; ``python population_tables.py`` rewrites the
-README's blocks."""
+optimum's height follows body size. make_tables.py puts them into results/tables.md;
+docs/report.md carries them and a test keeps the two equal; ``python population_tables.py``
+rewrites the report's blocks."""
 
 from __future__ import annotations
 
@@ -99,7 +99,7 @@ def working_heights_table(table: pd.DataFrame) -> list[str]:
 
 
 def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -> str:
-    """The README's answer, in one paragraph, for the paper's score."""
+    """The report's answer, in one paragraph, for the paper's score."""
     at = one_size[one_size["objective"] == "paper_postural"].set_index("choice")
     sampled = workers[workers["reference"] == 0]
     best = at.loc["mean"]
@@ -126,7 +126,7 @@ def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -
 
 
 def blocks(results: Path) -> dict[str, str]:
-    """Each README block's text, from ``results``/population/ only."""
+    """Each generated block's text, from ``results``/population/ only."""
     folder = results / "population"
     one_size, groups, fits, workers, heights = (
         _read(folder, f"{n}.csv") for n in
@@ -153,7 +153,8 @@ def section(results: Path) -> list[str]:
 
 
 def main() -> None:
-    """Rewrite the README's population blocks from results/ (run after the study)."""
+    """Rewrite the population blocks from results/ wherever each lives, README.md or
+    docs/report.md (run after the study)."""
     from common import RESULTS
 
     rewrite(blocks(RESULTS))
