@@ -22,8 +22,9 @@ ergohandover.study.config; --show-config prints the resolved one):
   default.json  the study (the default)
   quick.json    coarse grids and second-long caps, into results/quick/ (--quick; minutes)
   paper.json    the paper's own protocol: 10 Q-learning runs at 2 and 10 at 5 minutes of wall
-                clock with its episode end, and DQN at the same caps (about 75 minutes of
-                learning on 2 cores; give it --results and --figures of its own)
+                clock with its episode end, and DQN at the same caps: 40 capped runs, two at a
+                time on 2 cores, so 70 minutes of learning on top of the other parts; give it
+                --results of its own (its figures go there too)
 
 --only PART runs one part (repeatable) and redraws its figures. --engine ray [--address ...]
 runs every part's independent jobs (learning runs, the landscapes of workers and variants,
@@ -75,7 +76,7 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
                         help=f"run only this part (repeatable): {', '.join(STEPS)}")
     parser.add_argument("--force", action="store_true", help="rerun parts even if finished")
     parser.add_argument("--figures", type=Path, help="figures folder (default: paper_figs/, "
-                        "or paper_figs/quick/ with --quick)")
+                        "paper_figs/quick/ with --quick, or RESULTS/figures with --results)")
     parser.add_argument("--show-config", action="store_true",
                         help="print the resolved configuration as JSON and stop")
     add_study_arguments(parser)
@@ -98,7 +99,9 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(dataclasses.asdict(config), indent=2))
         return 0
     results = args.results or ROOT / "results" / ("quick" if args.quick else "")
-    figures = args.figures or ROOT / "paper_figs" / ("quick" if args.quick else "")
+    # A run into a results folder of its own keeps its figures beside it, never in paper_figs/.
+    figures = args.figures or (args.results / "figures" if args.results else
+                               ROOT / "paper_figs" / ("quick" if args.quick else ""))
     steps = args.only or list(STEPS)
     todo = [p for p in steps if p == "figures" or args.force
             or not is_done(results / p, config.part_inputs(p))]

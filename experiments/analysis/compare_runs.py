@@ -16,19 +16,26 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "learning/targets.csv",
-          "learning/runs.csv", "learning/found.csv", "baselines/baselines.csv",
-          "baselines/other_starts.csv", "ablations/ik.csv", "participants/participants.csv",
+TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "landscape/variants.csv",
+          "landscape/gaze_effect.csv", "learning/targets.csv", "learning/runs.csv",
+          "learning/summary.csv", "learning/comparisons.csv", "learning/curves.csv",
+          "learning/found.csv", "baselines/baselines.csv", "baselines/other_starts.csv",
+          "baselines/reachability.csv", "baselines/reachability_summary.csv", "ablations/ik.csv",
+          "participants/participants.csv",
           *(f"population/{n}.csv" for n in ("workers", "penalties", "one_size", "groups",
-                                            "height_fit", "working_heights")))
-TIME_COLUMNS = {"elapsed_s", "steps_per_s", "planning_s"}
+                                            "height_fit", "working_heights")),
+          "sensitivity/sensitivity.csv", "validation/validation.csv",
+          "validation/knee_height.csv")
+TIME_COLUMNS = {"elapsed_s", "steps_per_s", "planning_s", "median_steps_per_s"}
 
 
 def read(folder: Path, name: str) -> pd.DataFrame:
     table = pd.read_csv(folder / name)
-    if name == "learning/runs.csv":  # wall-clock-capped runs depend on the machine's load
+    if name in ("learning/runs.csv", "learning/summary.csv"):
+        # wall-clock-capped runs depend on the machine's load
         table = table[table["steps"].notna()].reset_index(drop=True)
-    if name == "learning/found.csv":  # the study names wall-clock budgets wall-<cap>s
+    if name in ("learning/found.csv", "learning/comparisons.csv"):
+        # the study names wall-clock budgets wall-<cap>s
         table = table[~table["budget"].str.startswith("wall-")].reset_index(drop=True)
     return table
 
@@ -63,4 +70,7 @@ def compare(a: Path, b: Path, parts: list[str] | None = None) -> bool:
 
 
 if __name__ == "__main__":
+    if len(sys.argv) < 3 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        sys.exit(0 if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help") else 2)
     sys.exit(0 if compare(Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3:]) else 1)
