@@ -190,7 +190,7 @@ def sweep(plans: Sequence[Plan], executor: Executor, progress: bool = True,
         jobs = jobs[:STOP_AFTER_CHUNKS]
     if not jobs:
         return
-    desc = "landscape" if len(plans) == 1 else f"{len(plans)} landscapes"
+    desc = "sweep" if len(plans) == 1 else f"sweep of {len(plans)} landscapes"
     bar = tqdm(total=sum(b - a for _, _, a, b in jobs), unit="pt", unit_scale=True, desc=desc,
                file=sys.stderr, disable=not progress)
     try:
