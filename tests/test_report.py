@@ -215,3 +215,38 @@ def test_report_other_starts_and_reachability_quote_the_committed_result():
     participants = pd.read_csv(ROOT / "results" / "participants" / "participants.csv")
     served = participants.dropna(subset=["robot_held"])
     assert f"{int(served['robot_held'].sum())} of {len(served)}" in text
+
+
+def test_report_run_times_are_the_committed_manifests():
+    import json
+
+    def minutes(part: str) -> float:
+        manifest = json.loads((ROOT / "results" / part / "manifest.json").read_text())
+        return manifest["wall_time_s"] / 60
+
+    text = " ".join(REPORT.split("**Run-to-run spread.**")[0].split("## The study and its runs")[1]
+                    .split())
+    runs = pd.read_csv(ROOT / "results" / "learning" / "runs.csv")
+    dqn, every = (runs.loc[runs["agent"] == "dqn", "elapsed_s"].sum() / 60,
+                  runs["elapsed_s"].sum() / 60)
+    for quoted in (f"the learning part's 1,180 runs {minutes('learning'):.1f} minutes",
+                   f"is {dqn:.1f} of the {every:.1f} minutes its runs take",
+                   f"reachability {minutes('baselines'):.1f}",
+                   f"41 workers {minutes('population'):.1f}",
+                   f"31 variants {minutes('sensitivity'):.1f}",
+                   f"the landscape {minutes('landscape'):.1f}"):
+        assert quoted in text, quoted
+    sweep = json.loads((ROOT / "results" / "landscape" / "manifest.json").read_text())
+    assert f"(its 3 mm sweep {sweep['sweep_seconds']:.0f} s)" in text
+    total = float(re.search(r"took ([\d.]+)\s+minutes on this 2-core", text).group(1))
+    parts = sum(minutes(p) for p in ("landscape", "learning", "baselines", "ablations",
+                                     "participants", "population", "sensitivity", "validation"))
+    assert parts <= total <= parts + 1.5  # the parts, plus the figures and the start-up
+
+
+def test_report_quotes_the_wall_clock_cells_of_dqn():
+    summary = pd.read_csv(ROOT / "results" / "learning" / "summary.csv").set_index(
+        ["target", "agent", "budget"])
+    at = [int(summary.loc[("paper", "dqn", b), "successes"]) for b in ("wall-2s", "wall-5s")]
+    assert (f"DQN reaches the paper's minimum in {at[0]} and {at[1]} of 10 runs at 2 and 5 s"
+            in " ".join(REPORT.split()))
