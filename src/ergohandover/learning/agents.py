@@ -9,7 +9,6 @@ Q-table, a network, the random walk's coin, or none for the searches).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..envs.handover_env import EPISODE_STEPS
@@ -81,7 +80,6 @@ def run_agent(name: str, env, budget: Budget, seed: int, episode_steps: int = EP
         The run's result and the agent's own configuration (None for the searches).
     """
     spec = agent(name)
-    runner: Callable
     if spec.policy == "table":
         from .qlearning import QLearningConfig, run_qlearning
 
@@ -98,5 +96,5 @@ def run_agent(name: str, env, budget: Budget, seed: int, episode_steps: int = EP
         return run_randomwalk(env, budget, seed, episode_steps, progress), None
     from .search import run_hillclimb, run_random
 
-    runner = run_random if name == "random" else run_hillclimb
-    return runner(env, budget, seed, progress), None
+    search = run_random if name == "random" else run_hillclimb
+    return search(env, budget, seed, progress), None

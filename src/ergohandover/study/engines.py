@@ -15,15 +15,12 @@ from __future__ import annotations
 
 import contextlib
 import logging
-import os
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from threadpoolctl import threadpool_limits
-
 from ..errors import ConfigError
-from ..executor import THREAD_VARIABLES, Executor, LocalExecutor, check_workers
+from ..executor import Executor, LocalExecutor, check_workers, pin_threads
 
 ENGINES = ("local", "ray")
 """Where work can run: this machine's process pool, or Ray (a local instance or a cluster)."""
@@ -73,10 +70,9 @@ class Engine:
 
 def _pinned(func: Callable[[Any], Any], job: Any) -> Any:
     """``func(job)`` with BLAS and OpenMP limited to one thread, also in libraries the job loads
-    (the body of every task)."""
-    os.environ.update(dict.fromkeys(THREAD_VARIABLES, "1"))
-    with threadpool_limits(limits=1):
-        return func(job)
+    (the body of every task: a Ray worker process is pinned as a pool worker is)."""
+    pin_threads()
+    return func(job)
 
 
 def check_address(address: str | None) -> str | None:

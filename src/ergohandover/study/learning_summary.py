@@ -57,9 +57,9 @@ def comparisons(runs: pd.DataFrame, learners: tuple[str, ...]) -> pd.DataFrame:
     the target (censored runs last): p-values and Cliff's delta (> 0: the learner sooner).
     Where no reference agent ran (the paper's own protocol: Q-learning and DQN), the first
     learner is compared with each other learner instead."""
-    ran = set(runs["agent"])
-    references = [r for r in REFERENCES if r in ran] or list(learners[1:])
-    learners = learners if any(r in ran for r in REFERENCES) else learners[:1]
+    references = [r for r in REFERENCES if r in set(runs["agent"])]
+    if not references:
+        learners, references = learners[:1], list(learners[1:])
     rows = []
     for (target, budget), group in runs.groupby(["target", "budget"], sort=False):
         by_agent = {a: g["evaluations_to_target"].to_numpy(dtype=float)
