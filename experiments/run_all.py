@@ -43,21 +43,24 @@ import time
 from pathlib import Path
 
 from ergohandover.errors import ErgohandoverError
+from ergohandover.executor import clean_stop
 from ergohandover.study.parts import PARTS, part
+from ergohandover.study.parts.learning import duration
 from ergohandover.study.resume import is_done
 from ergohandover.study.script import add_study_arguments, fail, study_from_args
 
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent
 STEPS = (*PARTS, "figures")
-# Rough wall time of each part on a 2-core machine [s] (measured), for the estimate printed
-# at the start; parts already finished are not counted. The learning part estimates itself
-# from its configuration.
-ESTIMATE_S = {"default": {"landscape": 150, "baselines": 270, "ablations": 65,
-                          "participants": 85, "population": 180, "sensitivity": 95,
-                          "validation": 5, "figures": 20},
-              "quick": {"landscape": 5, "baselines": 85, "ablations": 15, "participants": 10,
-                        "population": 20, "sensitivity": 60, "validation": 5, "figures": 20}}
+# Wall time of each part on this 2-core machine from an empty landscape cache [s], for the
+# estimate printed at the start; parts already finished are not counted. The learning part
+# estimates itself from its configuration. Default: the committed run's manifests (a test
+# keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
+ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
+                          "participants": 48, "population": 174, "sensitivity": 101,
+                          "validation": 1, "figures": 26},
+              "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
+                        "population": 13, "sensitivity": 50, "validation": 1, "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
@@ -107,20 +110,20 @@ def main(argv: list[str] | None = None) -> int:
             or not is_done(results / p, config.part_inputs(p))]
     seconds = {p: estimate(p, mode, config, engine.workers) for p in todo}
     total = sum(seconds.values())
-    plan = (f"estimated {total / 60:.0f} min: "
-            + ", ".join(f"{p} {s / 60:.1f}" for p, s in seconds.items()) if todo
+    plan = (f"estimated {duration(total)}: "
+            + ", ".join(f"{p} {duration(s)}" for p, s in seconds.items()) if todo
             else "every part is finished already")
     source = args.config.name if args.config else f"{mode}.json"
     print(f"run_all ({mode}, config {source}, {engine.name} engine, {engine.workers} workers): "
           f"parts {', '.join(steps)}; {plan}")
     start = time.perf_counter()
     try:
-        with engine.session():
+        with clean_stop(resumes=True), engine.session():
             run_steps(steps, config, results, figures, engine, args.force)
     except ErgohandoverError as exc:
         fail(exc)
-    print(f"run_all done in {(time.perf_counter() - start) / 60:.1f} min "
-          f"(estimated {total / 60:.0f} min)")
+    print(f"run_all done in {duration(time.perf_counter() - start)} "
+          f"(estimated {duration(total)})")
     return 0
 
 

@@ -12,6 +12,14 @@ solver's warm-start lattice, compiled kernels) is shared rather than rebuilt. Ea
 its BLAS and OpenMP thread pools to one thread: two processes on two cores that each start a
 multi-threaded BLAS fight for the cores and run up to 2.5x slower (measured). Work done in this
 process is pinned the same way, so that results never depend on the number of workers.
+
+How work stops: Python stops at Ctrl-C (SIGINT) by raising KeyboardInterrupt, which unwinds every
+``with`` block: a pool terminates its workers, Ray shuts its instance down, the study removes its
+staged part folders (:func:`~ergohandover.study.resume.run_part`). ``kill`` (SIGTERM) would end
+the process at once and leave its workers running with no parent; :func:`clean_stop` turns it
+into the same KeyboardInterrupt. Workers ignore SIGINT — a Ctrl-C in a terminal reaches the
+whole process group, and the parent alone decides how to stop — and die at SIGTERM, which is
+how a pool terminates them.
 """
 
 from __future__ import annotations
@@ -19,8 +27,11 @@ from __future__ import annotations
 import functools
 import multiprocessing
 import os
+import signal
+import sys
 from collections.abc import Callable, Iterable, Iterator
-from contextlib import ExitStack
+from contextlib import ExitStack, contextmanager, suppress
+from pathlib import Path
 from typing import Any, Protocol
 
 from threadpoolctl import threadpool_limits
@@ -40,6 +51,79 @@ def pin_threads() -> None:
     threadpool_limits(limits=1)
 
 
+EXIT_CODES = {signal.SIGINT: 130, signal.SIGTERM: 143}
+"""The shell's convention: 128 + the signal's number."""
+
+
+class Stopped(KeyboardInterrupt):
+    """Raised in the main process by SIGTERM (a KeyboardInterrupt, so that everything that
+    cleans up after Ctrl-C cleans up after ``kill`` too)."""
+
+    signal_number = signal.SIGTERM
+
+
+_RECEIVED: list[int] = []
+"""The signals that stopped this process (a library may re-raise a KeyboardInterrupt of its own
+in place of :class:`Stopped`, as Ray's waits do)."""
+
+
+def _raise_stopped(signum, frame) -> None:
+    _RECEIVED.append(signum)
+    raise Stopped()
+
+
+def stop_on_signals() -> None:
+    """Make SIGTERM raise :class:`Stopped` in this (main) process; SIGINT keeps raising
+    KeyboardInterrupt. Only the main thread can install handlers: elsewhere this does
+    nothing."""
+    with suppress(ValueError):  # not the main thread (e.g. a test runner's worker thread)
+        signal.signal(signal.SIGTERM, _raise_stopped)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
+def worker_signals() -> None:
+    """A worker process's handlers: SIGINT ignored (its parent stops it), SIGTERM fatal."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+@contextmanager
+def keep_signal_handlers() -> Iterator[None]:
+    """Restore SIGINT's and SIGTERM's handlers after the block (a library that installs its
+    own, such as Ray's ``init``, does not take over how this program stops)."""
+    saved = {number: signal.getsignal(number) for number in EXIT_CODES}
+    try:
+        yield
+    finally:
+        for number, handler in saved.items():
+            # not the main thread (ValueError), or a handler set in C (None: TypeError)
+            with suppress(ValueError, TypeError):
+                signal.signal(number, handler)
+
+
+@contextmanager
+def clean_stop(resumes: bool = False) -> Iterator[None]:
+    """Run a command's body with :func:`stop_on_signals`; on SIGINT or SIGTERM print one line
+    and exit with the shell's code for the signal (130 or 143), after every ``with`` block
+    inside has cleaned up (the handlers in place before are restored after).
+
+    Args:
+        resumes: say that a rerun resumes where this one stopped (the study's scripts).
+    """
+    _RECEIVED.clear()
+    try:
+        with keep_signal_handlers():  # the caller's handlers are back afterwards
+            stop_on_signals()
+            yield
+    except KeyboardInterrupt as exc:
+        number = _RECEIVED[-1] if _RECEIVED else getattr(exc, "signal_number", signal.SIGINT)
+        then = "; finished parts are kept and a rerun resumes" if resumes else \
+            "; nothing half-written was kept"
+        print(f"{Path(sys.argv[0]).stem}: stopped by {signal.Signals(number).name}{then}",
+              file=sys.stderr)
+        sys.exit(EXIT_CODES[number])
+
+
 class Executor(Protocol):
     """Runs ``func(job)`` for a list of jobs somewhere, as a context manager that holds its
     workers between calls."""
@@ -56,6 +140,13 @@ class Executor(Protocol):
                       jobs: Iterable[Any]) -> Iterator[tuple[int, Any]]:
         """``(index, func(jobs[index]))`` for every job, as each finishes."""
         ...
+
+
+def init_worker() -> None:
+    """A pool worker's start: one BLAS thread, and signals left to the parent (a Ctrl-C stops
+    the parent, which then terminates its pool; see :mod:`~ergohandover.stopping`)."""
+    worker_signals()
+    pin_threads()
 
 
 def _indexed(func: Callable[[Any], Any], item: tuple[int, Any]) -> tuple[int, Any]:
@@ -95,7 +186,7 @@ class LocalExecutor:
         self._stack.enter_context(threadpool_limits(limits=1))
         if self.workers > 1 or self.isolated:
             self._pool = self._stack.enter_context(multiprocessing.get_context("fork").Pool(
-                self.workers, initializer=pin_threads,
+                self.workers, initializer=init_worker,
                 maxtasksperchild=1 if self.isolated else None))
         return self
 

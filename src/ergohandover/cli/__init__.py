@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import argparse
 import sys
 
 from .. import __version__
 from ..errors import ErgohandoverError
+from ..executor import clean_stop
 from . import baseline, evaluate, score, sweep, train
 from .options import join_negative_values
+from .parser import FlagError, Parser
 
 COMMANDS = (score, evaluate, sweep, baseline, train)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
@@ -18,8 +19,8 @@ USER_ERRORS = (ErgohandoverError, FileNotFoundError, IsADirectoryError, NotADire
                PermissionError, FileExistsError, UnicodeDecodeError)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+def build_parser() -> Parser:
+    parser = Parser(
         prog="ergohandover",
         description="Find where a robot should hand a box to a worker so that the worker's "
         "posture is as safe as possible, scored with REBA, RULA and the paper's score.",
@@ -28,18 +29,29 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for command in COMMANDS:
         command.add_parser(subparsers)
+    parser.commands = dict(subparsers.choices)
+    for sub in parser.commands.values():
+        # A run's error names flags as the user typed them: its command's parser knows how.
+        sub.set_defaults(command_parser=sub)
     return parser
+
+
+def fail(prog: str, message: str) -> int:
+    print(f"{prog}: error: {message}", file=sys.stderr)
+    return 2
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = build_parser().parse_args(join_negative_values(argv))
     try:
-        return args.run(args)
+        args = build_parser().parse_args(join_negative_values(argv))
+    except FlagError as exc:
+        return fail(exc.prog, str(exc))
+    command = args.command_parser
+    try:
+        with clean_stop():  # Ctrl-C and kill: workers stopped, one line, exit 130 or 143
+            return args.run(args)
     except USER_ERRORS as exc:
         message = str(exc) if not isinstance(exc, OSError) or exc.filename is None else (
             f"{exc.filename}: {exc.strerror}")
-        print(f"ergohandover {args.command}: error: {message}", file=sys.stderr)
-        return 2
-
-
+        return fail(command.prog, command.as_typed(message))

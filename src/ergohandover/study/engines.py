@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import ConfigError
-from ..executor import Executor, LocalExecutor, check_workers, pin_threads
+from ..executor import Executor, LocalExecutor, check_workers, keep_signal_handlers, pin_threads
 
 ENGINES = ("local", "ray")
 """Where work can run: this machine's process pool, or Ray (a local instance or a cluster)."""
@@ -116,14 +116,17 @@ class RayExecutor:
         if not ray.is_initialized():
             options = {"include_dashboard": False, "log_to_driver": False,
                        "logging_level": logging.WARNING}
-            if self.address is None:
-                ray.init(num_cpus=self.workers, **options)
-            else:
-                try:
-                    ray.init(address=self.address, **options)
-                except ConnectionError as exc:
-                    raise ConfigError(f"address = {self.address!r}: no Ray cluster answers "
-                                      f"there ({str(exc).splitlines()[0]})") from None
+            # ray.init installs a SIGTERM handler that exits at once; the caller's (which
+            # unwinds, so that the instance is shut down and staged folders removed) is kept.
+            with keep_signal_handlers():
+                if self.address is None:
+                    ray.init(num_cpus=self.workers, **options)
+                else:
+                    try:
+                        ray.init(address=self.address, **options)
+                    except ConnectionError as exc:
+                        raise ConfigError(f"address = {self.address!r}: no Ray cluster "
+                                          f"answers there ({str(exc).splitlines()[0]})") from None
             self._started = True
         self._remote = ray.remote(num_cpus=1, max_calls=1 if self.isolated else 0)(_pinned)
         return self

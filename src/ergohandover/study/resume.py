@@ -7,12 +7,19 @@ What decides reuse (:func:`part_hash`): the part's inputs from the typed study c
 (:meth:`~.config.StudyConfig.part_inputs`), the package version and the source code of the twin
 and the scorers (:func:`~ergohandover.landscape.cache.twin_code_version`), so a change to the
 model reruns every part.
+
+A part never leaves a half-written folder: it writes into ``results/.partial/<part>/`` and that
+folder replaces ``results/<part>/`` only when the part has finished, manifest included. A part
+that fails or is stopped (Ctrl-C, ``kill``) removes its staged folder and leaves the previous
+results as they were.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
+import shutil
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -56,17 +63,56 @@ def run_part(name: str, folder: Path, inputs: dict[str, Any],
     Returns:
         True if the part ran, False if it was reused.
     """
+    restore_swapped(folder)
     if not force and is_done(folder, inputs):
         print(f"[{name}] reusing finished results in {folder}")
         return False
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / "manifest.json").unlink(missing_ok=True)  # not done until it is rewritten
-    start = time.perf_counter()
-    extra = work(folder) or {}
-    where = {"engine": {"name": engine.name, "workers": engine.workers,
-                        "address": engine.address}} if engine is not None else {}
-    write_manifest(folder, config={"part": name, **inputs}, seeds=seeds or {},
-                   wall_time_s=time.perf_counter() - start,
-                   extra={"part_hash": part_hash(inputs), "code_hash": twin_code_version(),
-                          **where, **extra})
+    stage = staging_folder(folder)
+    shutil.rmtree(stage, ignore_errors=True)  # what a killed run left
+    stage.mkdir(parents=True)
+    try:
+        start = time.perf_counter()
+        extra = work(stage) or {}
+        where = {"engine": {"name": engine.name, "workers": engine.workers,
+                            "address": engine.address}} if engine is not None else {}
+        write_manifest(stage, config={"part": name, **inputs}, seeds=seeds or {},
+                       wall_time_s=time.perf_counter() - start,
+                       extra={"part_hash": part_hash(inputs), "code_hash": twin_code_version(),
+                              **where, **extra})
+        replace_folder(stage, folder)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+        with contextlib.suppress(OSError):  # the staging area, once nothing is left in it
+            stage.parent.rmdir()
     return True
+
+
+STAGING = ".partial"
+"""The folder beside the parts' folders where a running part writes."""
+
+
+def staging_folder(folder: Path) -> Path:
+    """Where the part of ``folder`` writes while it runs (same name, so that its manifest
+    names the part's folder)."""
+    return folder.parent / STAGING / folder.name
+
+
+def replace_folder(stage: Path, folder: Path) -> None:
+    """Put the finished ``stage`` in the place of ``folder``: two renames on one file system,
+    the old folder set aside first and removed last (:func:`restore_swapped` puts it back if
+    the process died in between)."""
+    old = stage.with_name(stage.name + ".old")
+    shutil.rmtree(old, ignore_errors=True)
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    if folder.exists():
+        folder.rename(old)
+    stage.rename(folder)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def restore_swapped(folder: Path) -> None:
+    """Put back a part's previous results set aside by a :func:`replace_folder` that did not
+    finish (the process died between its two renames)."""
+    old = staging_folder(folder).with_name(folder.name + ".old")
+    if old.is_dir() and not folder.exists():
+        old.rename(folder)

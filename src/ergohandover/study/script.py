@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from ..errors import ErgohandoverError
+from ..executor import clean_stop
 from .config import StudyConfig
 from .engines import ENGINES, Engine
 
@@ -64,7 +65,7 @@ def study_main(name: str, doc: str) -> None:
     args = parser.parse_args()
     try:
         config, engine = study_from_args(args)
-        with engine.session():
+        with clean_stop(resumes=True), engine.session():
             part(name).run(config, args.results, engine, force=True)
     except ErgohandoverError as exc:
         fail(exc)
