@@ -16,6 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
+from tqdm import tqdm
 
 from ..errors import ConfigError
 from ..executor import Executor
@@ -145,8 +146,10 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
     scores = scores.drop(columns=[c for c in scores.columns if c.startswith(JOINT_PREFIX)])
     jobs = [CarryJob(start, location, posture)
             for (start, _, location), posture in zip(rows, postures, strict=True)]
-    plans = list(plan_carries(jobs, evaluator.body, evaluator.task, robot, seed, workers,
-                              budget, executor))
+    # Planning takes seconds to a minute per carry: the bar says how far it is.
+    plans = list(tqdm(plan_carries(jobs, evaluator.body, evaluator.task, robot, seed, workers,
+                                   budget, executor),
+                      total=len(jobs), desc="planning carries", unit="carry"))
     head = pd.DataFrame({
         "start_x": [r[0][0] for r in rows], "start_y": [r[0][1] for r in rows],
         "start_z": [r[0][2] for r in rows], "method": [r[1] for r in rows],

@@ -44,9 +44,13 @@ from ..resume import run_part
 from . import landscape as landscape_part
 from .shared import grid_of, landscape
 
-STEPS_PER_S = {"dqn": 1_000, "other": 150_000}
-"""Rough speeds for the time estimate [steps/s] (measured: bench_learning.py)."""
-JOB_OVERHEAD_S = 0.5
+STEPS_PER_S = {"dqn": 2_100, "other": 500_000}
+"""Speeds for the time estimate and the progress bar [steps/s]: the medians of the committed
+run's ``runs.csv`` on 2 cores (DQN 2,140-2,210; the others 0.43-1.9 M, their episodes' resets
+included)."""
+JOB_OVERHEAD_S = 0.05
+"""A job's cost besides its steps [s]: starting the agent, the rollouts' bookkeeping (the
+committed run: the part's wall time minus its runs' own time, per run)."""
 
 
 def target_model(config: StudyConfig, target: Target) -> tuple[Evaluator, Grid]:
@@ -102,6 +106,11 @@ def estimate_s(config: StudyConfig, workers: int) -> float:
     return sum(job_seconds(j) for j in plan_jobs(config)) / max(1, workers)
 
 
+def duration(seconds: float) -> str:
+    """``42 s`` or ``19 min``: an estimate as a reader takes it in."""
+    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min"
+
+
 def target_table(config: StudyConfig, found: dict[str, Landscape]) -> pd.DataFrame:
     """targets.csv: each target's landscape, objective, goal and cells."""
     rows = []
@@ -147,14 +156,21 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         targets = target_table(config, found)
         atomic_write_csv(targets, folder / "targets.csv")
         jobs = plan_jobs(config)
-        print(f"  {len(jobs)} runs, estimated {estimate_s(config, engine.workers) / 60:.0f} min "
+        print(f"  {len(jobs)} runs, estimated {duration(estimate_s(config, engine.workers))} "
               f"on {engine.workers} workers")
         done = []
-        with tqdm(total=len(jobs), desc="learning", unit="run") as bar, \
+        # The bar counts estimated seconds of work, not runs: the runs differ 1,000-fold in
+        # length and the longest go first, so a count of runs would promise hours at the start.
+        cost = [job_seconds(job) for job in jobs]
+        with tqdm(total=round(sum(cost), 1), desc="learning", unit="s", smoothing=0,
+                  bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]") as bar, \
                 engine.executor() as executor:
-            for result in executor.map(run_job, jobs):
+            bar.set_description_str(f"learning (0/{len(jobs)} runs)")
+            for index, result in executor.map_unordered(run_job, jobs):
                 done.append(result)
-                bar.update()
+                bar.set_description_str(f"learning ({len(done)}/{len(jobs)} runs)",
+                                        refresh=False)
+                bar.update(cost[index])
         written = tables(config, done, targets)
         for name, table in written.items():
             atomic_write_csv(table, folder / f"{name}.csv")

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
 from ...landscape.grid import Grid
@@ -87,9 +88,12 @@ def sweep_scores(grid: Grid, evaluators: list[Evaluator],
 
 def robot_serves(table: pd.DataFrame, evaluators: list[Evaluator], workers: int) -> pd.DataFrame:
     """Can the default robot hold the box at each worker's paper-score optimum?"""
+    # A robot's IK per worker, 1-2 s each: the bar shows the part is not stuck.
+    pairs = tqdm(zip(table.iterrows(), evaluators, strict=True), total=len(evaluators),
+                 desc="robot holds each optimum", unit="worker")
     held = [holds(row[["paper_postural_x", "paper_postural_y", "paper_postural_z"]]
                   .to_numpy(dtype=float)[None], evaluator, RobotSpec(), workers).iloc[0]
-            for (_, row), evaluator in zip(table.iterrows(), evaluators, strict=True)]
+            for (_, row), evaluator in pairs]
     return pd.DataFrame({"robot_held": [int(h["held"]) for h in held],
                          "robot_reason": [h["reason"] for h in held]})
 
