@@ -77,9 +77,9 @@ def test_the_pybullet_solver_flag_changes_the_solver():
     ("x,y,z\n0,1,abc\n", (), "row 1, column 'z': 'abc' is not a number"),
     ("x,y,z\n0,1,0.4\n0,nan,0.4\n", (), "row 2, column 'y': nan is not allowed"),
     ("", (), "is empty"),
-    ("x,y,z\n0,1,0.4\n", ("--stature", "2.5"), "stature_m = 2.5 is outside the valid range"),
-    ("x,y,z\n0,1,0.4\n", ("--workers", "0"), "workers = 0"),
-    ("x,y,z\n0,1,0.4\n", ("--box-mass-kg", "40"), "box_mass_kg = 40.0 is outside the valid range"),
+    ("x,y,z\n0,1,0.4\n", ("--stature", "2.5"), "--stature 2.5: outside 1.4-2.1 m"),
+    ("x,y,z\n0,1,0.4\n", ("--workers", "0"), "--workers 0: must be >= 1"),
+    ("x,y,z\n0,1,0.4\n", ("--box-mass-kg", "40"), "--box-mass-kg 40: outside 0-25 kg"),
 ])
 def test_bad_points_or_flags_exit_2_with_one_line(tmp_path, content, args, message):
     points = tmp_path / "points.csv"

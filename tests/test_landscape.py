@@ -263,8 +263,8 @@ def test_sweep_and_stats_commands(cache, tmp_path, capsys):
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--boundary", "0.1,-0.1,1,1.2,0.3,0.5"], "empty or inverted"),
-    (["--step", "0"], "step = 0.0 is outside"),
-    (["--boundary", "elsewhere"], "boundary = 'elsewhere' is not allowed"),
+    (["--step", "0"], "--step 0: must be > 0 m"),
+    (["--boundary", "elsewhere"], "--boundary elsewhere: not body, paper-code or six numbers"),
 ])
 def test_bad_sweep_arguments_exit_2(tmp_path, args, message):
     result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "sweep", "--output",

@@ -26,7 +26,8 @@ def test_train_on_a_landscape_writes_results_and_reports_the_minimum(bowl_file, 
                                                                      capsys):
     out = tmp_path / "run"
     assert main(["train", "--agent", "qlearning", "--steps", "20000", "--seed", "3",
-                 "--landscape", str(bowl_file), "--output", str(out)]) == 0
+                 "--episode-end", "paper", "--landscape", str(bowl_file),
+                 "--output", str(out)]) == 0
     stdout = capsys.readouterr().out
     assert "best paper_postural 5 at (x, y, z) = (0.000, 1.090, 0.390) m" in stdout
     assert "landscape minimum paper_postural 5 at 1 locations" in stdout and ": reached" in stdout
@@ -77,23 +78,23 @@ def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, c
     (["--agent", "qlearning"], "give exactly one of --time-cap S or --steps N (got neither)"),
     (["--agent", "qlearning", "--steps", "5", "--time-cap", "1"], "(got both)"),
     (["--agent", "qlearning", "--steps", "5", "--seed", "-1"],
-     "seed = '-1' is outside the valid range (an integer >= 0)"),
-    (["--agent", "qlearning", "--steps", "1.5"], "steps = '1.5' is outside the valid range"),
-    (["--agent", "qlearning", "--time-cap", "0"], "time-cap = '0' is outside the valid range"),
+     "--seed -1: must be >= 0"),
+    (["--agent", "qlearning", "--steps", "1.5"], "--steps 1.5: not a whole number"),
+    (["--agent", "qlearning", "--time-cap", "0"], "--time-cap 0: must be > 0 s"),
     (["--agent", "sarsa", "--steps", "5"],
-     "agent = 'sarsa' is not allowed (use qlearning, qlearning-adaptive, dqn"),
+     "--agent sarsa: not one of qlearning, qlearning-adaptive, dqn"),
     (["--agent", "random", "--steps", "5", "--temperature", "adaptive"],
-     "temperature = 'adaptive' is not allowed with agent = 'random'"),
+     "--temperature adaptive cannot be used with --agent random"),
     (["--agent", "qlearning", "--steps", "5", "--objective", "owas"],
-     "objective = 'owas' is not allowed (use paper_postural, reba, reba_ab, rula)"),
+     "--objective owas: not one of paper_postural, reba, reba_ab, rula"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "missing.npz"],
-     "landscape = 'missing.npz' is not an existing file"),
+     "--landscape missing.npz: no such file"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "BOWL", "--step", "0.01"],
      "--step cannot be used with --landscape"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "BOWL", "--gaze", "off"],
      "--gaze cannot be used with --landscape"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "CORRUPT"],
-     "is not a readable landscape"),
+     ": not a readable landscape"),
 ])
 def test_bad_arguments_exit_2_with_one_line_and_write_nothing(bowl_file, tmp_path, capsys,
                                                               args, message):
@@ -111,7 +112,7 @@ def test_bad_arguments_exit_2_with_one_line_and_write_nothing(bowl_file, tmp_pat
 def test_an_output_that_is_a_file_is_refused_before_the_run(bowl_file, capsys):
     assert main(["train", "--agent", "random", "--steps", "5", "--landscape", str(bowl_file),
                  "--output", str(bowl_file)]) == 2
-    assert f"output = '{bowl_file}' is a file" in capsys.readouterr().err
+    assert f"--output {bowl_file}: a file, not a folder" in capsys.readouterr().err
 
 
 @pytest.mark.smoke

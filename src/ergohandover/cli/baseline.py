@@ -6,31 +6,40 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import math
-import os
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from ..executor import check_workers
 from ..io.atomic import atomic_write, atomic_write_csv
 from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
 from ..landscape.cache import Landscape, landscape_key
-from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..landscape.store import landscape_of
-from ..scene.robot import RobotSpec, RobotSpecError
+from ..scene.robot import RobotSpec
 from ..study.baseline_outputs import render, write_paths
 from ..study.baselines import PAPER_STARTS, compare, markdown_table
 from ..twin.evaluate import Evaluator
-from .options import add_evaluator_arguments, evaluator_from_args, run_folder
+from . import defaults
+from .options import (
+    add_evaluator_arguments,
+    add_grid_arguments,
+    add_output_folder_argument,
+    add_workers_argument,
+    evaluator_from_args,
+    field_help,
+    grid_from_args,
+    run_folder,
+    writable,
+)
+from .parser import given
+from .refusals import model, read_landscape
+from .values import existing_file, field_value, output_file, point, whole
 
-START = "three finite numbers X,Y,Z in metres, worker frame"
 ROBOT_FLAGS = {"distance": "robot-distance", "drive_range": "robot-drive",
-               "arm_spacing": "robot-spacing",
-               "mount_height": "robot-height"}
+               "arm_spacing": "robot-spacing", "mount_height": "robot-height"}
+"""The robot's settings a flag sets: field -> flag."""
 
 DESCRIPTION = """\
 For each start point of the box (worker frame, metres: x right, y up, z forward), compare the
@@ -40,86 +49,65 @@ twin's paper postural score, REBA and RULA, and the dual-arm robot's carry of th
 the start to there, planned with OMPL clear of the robot itself, the box and the worker (per
 carry: planning time, path length, waypoints, clearance to the worker; or why it cannot be
 served). Writes a CSV, a markdown table beside the paper's numbers and manifest.json (into
---output's folder; default a new runs/baseline/<timestamp>/) and prints the table. The
-landscape comes from the landscape cache (swept into it when missing) unless --landscape
-names a file."""
+--output's folder, created if needed; default a new runs/baseline/<timestamp>/) and prints the
+table. The landscape comes from the landscape cache (swept into it when missing) unless
+--landscape names a file."""
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "baseline", help="optimised vs shortest-distance handover locations from start points",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--start", action="append", metavar="X,Y,Z",
+    parser.add_argument("--start", action="append", type=point, metavar="X,Y,Z",
                         help="a start point of the box [m], e.g. --start -0.3,0.8,0.9; repeat "
-                        "for several (default: the paper's five)")
-    parser.add_argument("--boundary", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
-                        help="handover boundary (default: the landscape's, else paper-code)")
-    parser.add_argument("--step", type=float, metavar="S",
-                        help=f"grid step [m] (default: the landscape's, else {DEFAULT_STEP})")
+                        f"for several (default: the paper's {len(PAPER_STARTS)})")
+    add_grid_arguments(parser, "handover boundary; with --landscape: the landscape's",
+                       "grid step [m]; with --landscape: the landscape's")
     add_evaluator_arguments(parser, solver=False)
-    parser.add_argument("--landscape", type=Path, metavar="FILE",
+    parser.add_argument("--landscape", type=existing_file, metavar="FILE",
                         help="a landscape .npz (default: the matching one from the landscape "
                         "cache, swept into it when missing)")
-    parser.add_argument("--output", type=Path, metavar="FILE",
-                        help="CSV to write; the .md table and manifest.json go beside it "
-                        "(default: runs/baseline/<timestamp>/baselines.csv)")
-    parser.add_argument("--render", type=Path, metavar="DIR",
-                        help="also write a PNG per start and location, a contact sheet and a "
-                        "GIF per planned carry into DIR (created if needed)")
-    parser.add_argument("--paths", type=Path, metavar="DIR",
-                        help="also write a CSV per planned carry into DIR: time, the box pose "
-                        "(worker frame) and every robot joint by its URDF name; the robot base "
-                        "pose (world frame) in the first row (docs/robot.md)")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="seed of the carry planner (each carry's own is spawned from it; "
-                        "default 0)")
+    parser.add_argument("--output", type=output_file, metavar="FILE",
+                        help="CSV to write (its folder is created if needed); the .md table and "
+                        "manifest.json go beside it (default: "
+                        "runs/baseline/<timestamp>/baselines.csv)")
+    add_output_folder_argument(parser, "also write a PNG per start and location, a contact "
+                               "sheet and a GIF per planned carry into DIR (created if needed)",
+                               "--render")
+    add_output_folder_argument(parser, "also write a CSV per planned carry into DIR (created "
+                               "if needed): time, the box pose (worker frame) and every robot "
+                               "joint by its URDF name; the robot base pose (world frame) in the "
+                               "first row (docs/robot.md)", "--paths")
+    parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="K",
+                        help="seed of the carry planner, from which each carry's own is "
+                        f"spawned (default: {defaults.SEED})")
     group = parser.add_argument_group("robot (docs/robot.md)")
-    defaults = RobotSpec()
-    group.add_argument("--robot-distance", type=float, default=defaults.distance, metavar="M",
-                       help=f"arm bases in front of the worker with the base driven fully "
-                       f"back [m] (default: {defaults.distance})")
-    group.add_argument("--robot-drive", type=float, default=defaults.drive_range, metavar="M",
-                       help=f"travel of the mobile base toward the worker [m] (default: "
-                       f"{defaults.drive_range})")
-    group.add_argument("--robot-spacing", type=float, default=defaults.arm_spacing,
-                       metavar="M", help=f"distance between the arm bases [m] (default: "
-                       f"{defaults.arm_spacing})")
-    group.add_argument("--robot-height", type=float, default=defaults.mount_height,
-                       metavar="M", help=f"height of the arm bases [m] (default: "
-                       f"{defaults.mount_height})")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes for a sweep and for planning carries (default: all cores)")
+    fields = {f.name: f for f in dataclasses.fields(RobotSpec)}
+    for name, flag in ROBOT_FLAGS.items():
+        field = fields[name]
+        group.add_argument(f"--{flag}", dest=name, type=field_value(field),
+                           default=field.default, metavar="M",
+                           help=field_help(field, field.default))
+    add_workers_argument(parser, "processes for a sweep and for planning carries")
     parser.set_defaults(run=run)
-
-
-def parse_start(text: str) -> np.ndarray:
-    """``X,Y,Z`` -> (3,) [m]; anything else is a one-line InputError."""
-    try:
-        values = [float(part) for part in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 3 or not all(math.isfinite(v) for v in values):
-        raise InputError(f"start = {text!r} is not allowed (expected {START})")
-    return np.array(values)
 
 
 def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
     """The given landscape (checked against the flags), or the landscape door's (from the
     cache, swept into it when missing)."""
-    body, task = evaluator.body, evaluator.task
     if args.landscape is not None:
-        landscape = Landscape.load(args.landscape)
-        boundary = (parse_boundary(args.boundary, body, task) if args.boundary
-                    else landscape.grid.boundary)
-        grid = Grid(boundary, args.step or landscape.grid.step)
+        landscape = read_landscape(args.landscape, "--landscape")
+        flags = given(args)  # the grid is the landscape's own but for what a flag says
+        grid = grid_from_args(
+            evaluator, args.boundary if "boundary" in flags else landscape.grid.boundary,
+            args.step if "step" in flags else landscape.grid.step)
         if landscape.key != landscape_key(evaluator, grid):
-            raise InputError(f"landscape = '{args.landscape}' was made with other settings "
+            raise InputError(f"--landscape {args.landscape} was made with other settings "
                              f"(worker, boundary, step or version; key {landscape.key}, "
                              f"expected {landscape_key(evaluator, grid)}); omit --landscape "
                              "to sweep the matching one")
         return landscape, args.landscape
-    grid = Grid(parse_boundary(args.boundary or "paper-code", body, task),
-                args.step or DEFAULT_STEP)
+    grid = grid_from_args(evaluator, args.boundary, args.step)
     print(f"landscape: {grid.describe()}", file=sys.stderr)
     landscape = landscape_of(evaluator, grid, workers=args.workers)
     print(f"landscape: {landscape.path}", file=sys.stderr)
@@ -128,25 +116,13 @@ def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
 
 def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
-    check_workers(args.workers)
-    if args.seed < 0:
-        raise InputError(f"seed = {args.seed} is not allowed (use an integer >= 0)")
-    starts = np.array([parse_start(s) for s in args.start]) if args.start else PAPER_STARTS
-    try:
-        robot = RobotSpec(distance=args.robot_distance, drive_range=args.robot_drive,
-                          arm_spacing=args.robot_spacing,
-                          mount_height=args.robot_height)
-    except RobotSpecError as exc:
-        field = str(exc).split(" = ")[0]
-        raise InputError(str(exc).replace(field, ROBOT_FLAGS.get(field, field), 1)) from None
+    starts = np.array(args.start) if args.start else PAPER_STARTS
+    robot = model(RobotSpec, **{name: getattr(args, name) for name in ROBOT_FLAGS})
     evaluator = evaluator_from_args(args)
-    if args.output is not None and not args.output.parent.is_dir():
-        raise InputError(f"output = '{args.output}': directory '{args.output.parent}' does "
-                         "not exist")
     landscape, source = obtain_landscape(args, evaluator)
     result = compare(starts, landscape, evaluator, robot, seed=args.seed,
                      workers=args.workers)
-    output = args.output or run_folder("baseline") / "baselines.csv"
+    output = writable(args.output) if args.output else run_folder("baseline") / "baselines.csv"
     markdown = markdown_table(result.table)
     atomic_write_csv(result.table, output)
     md_path = atomic_write(output.with_suffix(".md"), lambda h: h.write(markdown))

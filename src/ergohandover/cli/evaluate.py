@@ -3,26 +3,30 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
-from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
-from ..executor import check_workers
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
 from ..scene.render import render_points
-from ..twin.evaluate import EVALUATION_COLUMNS, evaluate
-from .options import add_evaluator_arguments, evaluator_from_args, run_folder
+from ..twin.evaluate import EVALUATION_COLUMNS, REASONS, evaluate
+from .options import (
+    add_evaluator_arguments,
+    add_workers_argument,
+    evaluator_from_args,
+    run_folder,
+    writable,
+)
+from .values import output_file, output_folder
 
-DESCRIPTION = """\
+DESCRIPTION = f"""\
 Evaluate box locations: for each row of --points (columns x, y, z: the box centre in the worker
 frame, metres; x to the worker's right, y up, z forward) the twin grips both handles; its
-posture, feasibility (hand_miss, box_collision, unbalanced) and every score are written to
---output (the Evaluation CSV, whose columns docs/architecture.md lists; scores are empty where
-infeasible)."""
+posture, feasibility ({', '.join(REASONS)}) and every score are written to
+--output (the Evaluation CSV, whose columns docs/architecture.md lists under "File contracts";
+scores are empty where infeasible)."""
 
 LOCATION = "a finite coordinate in metres"
 
@@ -33,14 +37,14 @@ def add_parser(subparsers) -> None:
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--points", required=True, metavar="CSV",
                         help="box locations: columns x, y, z [m], worker frame; - for stdin")
-    parser.add_argument("--output", metavar="CSV",
-                        help="Evaluation CSV to write (atomically), or - for standard output "
-                        "(default: runs/evaluate/<timestamp>/evaluation.csv)")
+    parser.add_argument("--output", type=output_file, metavar="CSV",
+                        help="Evaluation CSV to write (atomically; its folder is created if "
+                        "needed), or - for standard output (default: "
+                        "runs/evaluate/<timestamp>/evaluation.csv)")
     add_evaluator_arguments(parser)
-    parser.add_argument("--render", metavar="DIR", type=Path,
+    parser.add_argument("--render", metavar="DIR", type=output_folder,
                         help="also write one PNG per point into DIR (created if needed)")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes to use (default: all cores)")
+    add_workers_argument(parser, "processes to use")
     parser.set_defaults(run=run)
 
 
@@ -49,18 +53,17 @@ def read_points(source: str) -> np.ndarray:
     what = "standard input" if source == "-" else source
     frame = read_csv_text(source, what)
     require_columns(frame, ("x", "y", "z"), what)
-    cols = numeric_columns(frame, dict.fromkeys(("x", "y", "z"), LOCATION))
+    cols = numeric_columns(frame, dict.fromkeys(("x", "y", "z"), LOCATION), what)
     points = np.column_stack([cols["x"], cols["y"], cols["z"]])
     bad = np.argwhere(~np.isfinite(points))
     if bad.size:
         row, col = bad[0]
-        raise InputError(f"row {row + 1}, column '{'xyz'[col]}': {points[row, col]:g} is not "
-                         f"allowed (expected {LOCATION})")
+        raise InputError(f"{what}: row {row + 1}, column '{'xyz'[col]}': {points[row, col]:g} "
+                         f"is not allowed (expected {LOCATION})")
     return points
 
 
 def run(args: argparse.Namespace) -> int:
-    check_workers(args.workers)
     evaluator = evaluator_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
@@ -71,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     if output == "-":
         table[list(EVALUATION_COLUMNS)].to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table[list(EVALUATION_COLUMNS)], output)
+        atomic_write_csv(table[list(EVALUATION_COLUMNS)], writable(output))
     if args.render:
         render_points(table, points, evaluator, args.render)
     feasible = int(table["feasible"].sum())

@@ -1,18 +1,34 @@
-"""What the commands share: options generated from frozen dataclass configs, the worker's
-body flags, X,Y,Z values that start with a minus, and the default output folder.
+"""What the commands share: flags generated from frozen dataclass configs, the worker, task and
+model flags, the grid flags, X,Y,Z values that start with a minus, and the output folders.
 
-A field's ``metadata["help"]`` becomes its ``--help`` text and ``metadata["choices"]`` its
-choices; the dataclass's own validation runs when the config is built from the parsed flags.
+A field's ``metadata["help"]`` becomes its ``--help`` text, its range or choices the flag's
+checker (:mod:`.values`), so a bad value is refused while parsing, naming the flag. Every shared
+flag's default is :mod:`.defaults`', the study's.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import re
 import time
 from pathlib import Path
 from typing import Any, TypeVar
+
+from . import defaults
+from .parser import given
+from .refusals import BODY_FLAGS, model
+from .values import (
+    boundary,
+    choice,
+    field_value,
+    number,
+    output_folder,
+    rule,
+    unit_of,
+    whole,
+)
 
 T = TypeVar("T")
 
@@ -22,108 +38,158 @@ def flag_name(field: dataclasses.Field) -> str:
 
 
 def add_dataclass_arguments(parser: argparse.ArgumentParser | Any, cls: type,
-                            title: str | None = None) -> None:
-    """Add one ``--flag`` per field of dataclass ``cls`` (default: the field's default)."""
+                            title: str | None = None,
+                            overrides: dict[str, Any] | None = None) -> None:
+    """Add one ``--flag`` per field of dataclass ``cls``; its default is the field's, or the
+    shared one in ``overrides`` (field name -> default)."""
     group = parser.add_argument_group(title) if title else parser
     for field in dataclasses.fields(cls):
-        meta = field.metadata
-        kind = type(field.default)
+        default = (overrides or {}).get(field.name, field.default)
+        choices = field.metadata.get("choices")
         group.add_argument(
-            flag_name(field),
-            dest=field.name,
-            type=kind if kind in (int, float, str) else str,
-            default=None,
-            choices=meta.get("choices"),
-            metavar=None if "choices" in meta else field.name.split("_")[-1].upper(),
-            help=f"{meta.get('help', '')} (default: {field.default})",
-        )
+            flag_name(field), dest=field.name, type=field_value(field), default=default,
+            metavar="|".join(choices) if choices else field.name.split("_")[-1].upper(),
+            help=field_help(field, default))
+
+
+def field_help(field: dataclasses.Field, default: Any) -> str:
+    """A ranged field's help text, its range (once: some texts state it already) and default."""
+    meta, text = field.metadata, field.metadata.get("help", "")
+    if not meta.get("choices") and f"{meta['lo']:g}-{meta['hi']:g}" not in text:
+        text += f", {rule(meta['lo'], meta['hi'], unit_of(field))}"
+    return f"{text} (default: {default})"
 
 
 def dataclass_from_args(cls: type[T], args: argparse.Namespace) -> T:
-    """Build ``cls`` from the flags given on the command line; unset flags keep defaults."""
-    given = {
-        f.name: getattr(args, f.name)
-        for f in dataclasses.fields(cls)
-        if getattr(args, f.name, None) is not None
-    }
-    return cls(**given)
+    """Build ``cls`` from its flags (each already checked against the field's range)."""
+    return model(cls, **{f.name: getattr(args, f.name) for f in dataclasses.fields(cls)})
 
 
 def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """``--percentile``, ``--stature``, ``--mass``, ``--sex``: the worker's size."""
-    from ..twin.anthropometry import PERCENTILES
+    from ..twin.anthropometry import MASS_RANGE_KG, PERCENTILES, SEXES, STATURE_RANGE_M
 
-    group = parser.add_argument_group("worker (default: ANSUR II 50th-percentile man)")
-    group.add_argument("--percentile", choices=sorted(PERCENTILES),
-                       help="a named survey percentile (stature, mass and sex together)")
-    group.add_argument("--stature", type=float, metavar="M", help="stature [m], 1.40-2.10")
-    group.add_argument("--mass", type=float, metavar="KG", help="body mass [kg], 35-160")
-    group.add_argument("--sex", choices=("male", "female"), help="sex")
+    names = sorted(PERCENTILES)
+    group = parser.add_argument_group(f"worker (default: --percentile {defaults.PERCENTILE})")
+    group.add_argument("--percentile", type=choice(names), default=defaults.PERCENTILE,
+                       metavar="|".join(names), help="a named ANSUR II percentile: stature, "
+                       f"mass and sex together (default: {defaults.PERCENTILE})")
+    group.add_argument("--stature", type=number(*STATURE_RANGE_M, "m"), metavar="M",
+                       help=f"stature [m], {rule(*STATURE_RANGE_M)} (default: the "
+                       "percentile's)")
+    group.add_argument("--mass", type=number(*MASS_RANGE_KG, "kg"), metavar="KG",
+                       help=f"body mass [kg], {rule(*MASS_RANGE_KG)} (default: the "
+                       "percentile's)")
+    group.add_argument("--sex", type=choice(SEXES), metavar="|".join(SEXES),
+                       help="sex (default: the percentile's)")
 
 
 def body_from_args(args: argparse.Namespace):
-    """The BodySpec the flags describe: a percentile, then any explicit overrides."""
-    import dataclasses
-
+    """The BodySpec the flags describe: the percentile, then any explicit overrides."""
     from ..twin.anthropometry import BodySpec
 
-    body = BodySpec.from_percentile(args.percentile) if args.percentile else BodySpec()
-    overrides = {k: v for k, v in (("stature_m", args.stature), ("mass_kg", args.mass),
-                                   ("sex", args.sex)) if v is not None}
-    return dataclasses.replace(body, **overrides) if overrides else body
+    overrides = {field: getattr(args, flag[2:]) for field, flag in BODY_FLAGS.items()
+                 if getattr(args, flag[2:]) is not None}
+    return dataclasses.replace(BodySpec.from_percentile(args.percentile), **overrides)
 
 
 def add_task_arguments(parser: argparse.ArgumentParser) -> None:
-    """One flag per :class:`~ergohandover.twin.task.TaskSpec` field: the box and ``--gaze``."""
+    """One flag per :class:`~ergohandover.twin.task.TaskSpec` field: the box and ``--gaze``
+    (whose default is the study's)."""
     from ..twin.task import TaskSpec
 
-    add_dataclass_arguments(parser, TaskSpec, "task (default: the 6 kg box, gaze on)")
+    add_dataclass_arguments(parser, TaskSpec, "task (default: the study's box and gaze)",
+                            overrides={"gaze": defaults.GAZE})
 
 
 def task_from_args(args: argparse.Namespace):
-    """The TaskSpec the task flags describe (defaults for those not given)."""
+    """The TaskSpec the task flags describe."""
     from ..twin.task import TaskSpec
 
     return dataclass_from_args(TaskSpec, args)
 
 
-def task_flags_given(args: argparse.Namespace) -> list[str]:
-    """The task flags given on the command line, as typed (``--gaze``, ...)."""
+def model_flags() -> list[str]:
+    """The destinations of every flag that describes the worker, the task and the model."""
     from ..twin.task import TaskSpec
 
-    return [flag_name(f) for f in dataclasses.fields(TaskSpec)
-            if getattr(args, f.name, None) is not None]
+    return ["percentile", "stature", "mass", "sex", *(f.name for f in dataclasses.fields(
+        TaskSpec)), "solver", "trunk_reference"]
+
+
+def model_flags_given(args: argparse.Namespace) -> list[str]:
+    """The worker, task and model flags given on the command line (``--gaze``, ...)."""
+    return [f"--{dest.replace('_', '-')}" for dest in model_flags() if dest in given(args)]
 
 
 def add_evaluator_arguments(parser: argparse.ArgumentParser, solver: bool = True) -> None:
     """The worker, the task, the trunk-angle reference and (``solver``) the posture solver:
     everything an :class:`~ergohandover.twin.evaluate.Evaluator` is built from."""
-    from ..twin.evaluate import SOLVERS, TRUNK_REFERENCES
+    from ..twin.evaluate import SOLVER_ALIASES, SOLVERS, TRUNK_REFERENCES
 
     add_body_arguments(parser)
     add_task_arguments(parser)
     group = parser.add_argument_group("model")
     if solver:
-        group.add_argument("--solver", choices=(*SOLVERS, "numpy"), default="whole-body",
+        names = (*SOLVERS, *SOLVER_ALIASES)
+        group.add_argument("--solver", type=choice(names), default=defaults.SOLVER,
+                           metavar="|".join(names),
                            help="whole-body: the twin's own solver (balance, gaze, palms; "
-                           "compiled); pybullet: PyBullet's IK on the hands only; numpy is the "
-                           "former name of whole-body (default: whole-body)")
-    group.add_argument("--trunk-reference", choices=TRUNK_REFERENCES, default="vertical",
+                           "compiled); pybullet: PyBullet's IK on the hands only; "
+                           + "; ".join(f"{old} is the former name of {new}"
+                                       for old, new in SOLVER_ALIASES.items())
+                           + f" (default: {defaults.SOLVER})")
+    group.add_argument("--trunk-reference", type=choice(TRUNK_REFERENCES),
+                       default=defaults.TRUNK_REFERENCE, metavar="|".join(TRUNK_REFERENCES),
                        help="trunk flexion and side bend from vertical (the worksheets') or "
-                       "relative to the pelvis (default: vertical)")
+                       f"relative to the pelvis (default: {defaults.TRUNK_REFERENCE})")
 
 
 def evaluator_from_args(args: argparse.Namespace):
     """The Evaluator the flags describe (see :func:`add_evaluator_arguments`)."""
     import sys
 
-    from ..twin.evaluate import Evaluator
+    from ..twin.evaluate import SOLVER_ALIASES, Evaluator
 
-    solver = getattr(args, "solver", "whole-body")
-    if solver == "numpy":
-        print("note: --solver numpy is the former name of --solver whole-body", file=sys.stderr)
-    return Evaluator(body_from_args(args), task_from_args(args), solver,
-                     trunk_reference=args.trunk_reference)
+    solver = getattr(args, "solver", defaults.SOLVER)
+    if solver in SOLVER_ALIASES:
+        print(f"note: --solver {solver} is the former name of --solver "
+              f"{SOLVER_ALIASES[solver]}", file=sys.stderr)
+    return model(Evaluator, body_from_args(args), task_from_args(args), solver,
+                 trunk_reference=args.trunk_reference)
+
+
+def add_grid_arguments(parser: argparse.ArgumentParser, boundary_help: str,
+                       step_help: str) -> None:
+    """``--boundary`` and ``--step`` with the study's defaults."""
+    from ..landscape.grid import BOUNDARY_NAMES
+
+    parser.add_argument("--boundary", type=boundary(BOUNDARY_NAMES), default=defaults.BOUNDARY,
+                        metavar="|".join(BOUNDARY_NAMES) + "|X0,X1,Y0,Y1,Z0,Z1",
+                        help=f"{boundary_help} (default: {defaults.BOUNDARY})")
+    parser.add_argument("--step", type=number(0, None, "m", above=True), default=defaults.STEP,
+                        metavar="S", help=f"{step_help} (default: {defaults.STEP:g})")
+
+
+def grid_from_args(evaluator, boundary, step: float):
+    """The grid of a boundary (its ``--boundary`` text, or a Boundary) and step; a step larger
+    than the boundary names ``--step``."""
+    from ..landscape.grid import Grid, parse_boundary
+
+    if isinstance(boundary, str):
+        boundary = model(parse_boundary, boundary, evaluator.body, evaluator.task)
+    return model(Grid, boundary, step)
+
+
+def add_workers_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    parser.add_argument("--workers", type=whole(1), default=os.cpu_count() or 1, metavar="N",
+                        help=f"{what} (default: all cores, {os.cpu_count() or 1} here)")
+
+
+def add_output_folder_argument(parser: argparse.ArgumentParser, help: str,
+                               flag: str = "--output") -> None:
+    """A folder to write into: refused while parsing if a file is in the way."""
+    parser.add_argument(flag, type=output_folder, metavar="DIR", help=help)
 
 
 RUNS = Path("runs")
@@ -144,6 +210,14 @@ def run_folder(command: str) -> Path:
     raise FileExistsError(f"{RUNS / command}: no free folder name for {stamp}")
 
 
+def writable(path: str | Path) -> Path:
+    """``path``, its folder created: an output is written only once everything was computed, so
+    a bad input never leaves a folder behind."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return path
+
+
 COORDINATE_FLAGS = ("--start", "--boundary")
 """Flags whose value is a list of numbers, which may start with a minus sign."""
 _NUMBERS = re.compile(r"^-\d*\.?\d+(e[-+]?\d+)?(,[-+]?\d*\.?\d+(e[-+]?\d+)?)*$", re.IGNORECASE)
@@ -161,3 +235,4 @@ def join_negative_values(argv: list[str]) -> list[str]:
             out.append(argv[i])
             i += 1
     return out
+

@@ -4,21 +4,33 @@ from __future__ import annotations
 
 import argparse
 import sys
+import textwrap
 
 import pandas as pd
 
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
+from ..ergonomics.posture import COLUMNS
 from ..io.atomic import atomic_write_csv
 from ..io.posture_csv import read_postures
-from .options import add_dataclass_arguments, dataclass_from_args, run_folder
+from .options import add_dataclass_arguments, dataclass_from_args, run_folder, writable
+from .values import output_file
 
-DESCRIPTION = """\
+
+def optional_columns() -> str:
+    """The optional Posture columns grouped by the value they take when absent."""
+    by_default: dict[float, list[str]] = {}
+    for column in COLUMNS:
+        if column.default is not None:
+            by_default.setdefault(column.default, []).append(column.name)
+    return "; ".join(f"{', '.join(names)} {value:g}" for value, names in by_default.items())
+
+
+DESCRIPTION = f"""\
 Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1993) and the
 paper's additive postural score. Reads a Posture CSV (one posture per row, angles in degrees,
-flexion +; see docs/report.md, "Scoring postures"); writes its columns followed by every score
-column.
-Optional columns default: load_kg, shock, coupling, activity, muscle_use, *_arm_supported and
-*_arm_across_midline 0; bilateral_support 1; hands_above_neck 0."""
+flexion +; its columns: docs/architecture.md, "File contracts"; an example: docs/report.md,
+"Scoring postures"); writes its columns followed by every score column.
+{textwrap.fill(f"Optional columns default: {optional_columns()}.", 96)}"""
 
 
 def add_parser(subparsers) -> None:
@@ -28,9 +40,10 @@ def add_parser(subparsers) -> None:
     )
     parser.add_argument("--input", required=True, metavar="CSV",
                         help="Posture CSV to read, or - for standard input")
-    parser.add_argument("--output", metavar="CSV",
-                        help="scores CSV to write (atomically), or - for standard output "
-                        "(default: runs/score/<timestamp>/scores.csv)")
+    parser.add_argument("--output", type=output_file, metavar="CSV",
+                        help="scores CSV to write (atomically; its folder is created if "
+                        "needed), or - for standard output (default: "
+                        "runs/score/<timestamp>/scores.csv)")
     add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
                             "open)")
     parser.set_defaults(run=run)
@@ -47,6 +60,6 @@ def run(args: argparse.Namespace) -> int:
     if output == "-":
         table.to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table, output)
+        atomic_write_csv(table, writable(output))
         print(f"scored {len(table)} postures -> {output}", file=sys.stderr)
     return 0

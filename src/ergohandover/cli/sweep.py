@@ -4,22 +4,24 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import os
 import sys
 import time
 from pathlib import Path
 
-from ..executor import check_workers
-from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
 from ..landscape import Landscape, landscapes_of
-from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..landscape.stats import statistics, write_statistics
 from .options import (
     add_evaluator_arguments,
+    add_grid_arguments,
+    add_output_folder_argument,
+    add_workers_argument,
     evaluator_from_args,
+    grid_from_args,
     run_folder,
 )
+from .refusals import read_landscape
+from .values import existing_file
 
 
 def add_parser(subparsers) -> None:
@@ -27,18 +29,14 @@ def add_parser(subparsers) -> None:
         "sweep", help="evaluate every grid point of a boundary (the exhaustive landscape)",
         description="Evaluate every point of the grid into the landscape cache (resumable; "
         "reused when the same body, task, boundary, step, settings and model code were swept "
-        "before) and write its statistics and distribution figure.")
-    parser.add_argument("--boundary", default="body", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
-                        help="the paper's body-derived boundary, the published code's numbers, "
-                        "or explicit ranges in metres, worker frame (default: body)")
-    parser.add_argument("--step", type=float, default=DEFAULT_STEP, metavar="S",
-                        help=f"grid step [m] (default: {DEFAULT_STEP}, the paper's)")
+        "before, by a command or the study) and write its statistics and distribution figure.")
+    add_grid_arguments(parser, "the published code's boundary, the paper's body-derived one, "
+                       "or explicit ranges in metres, worker frame", "grid step [m]")
     add_evaluator_arguments(parser)
-    parser.add_argument("--output", type=Path, metavar="DIR",
-                        help="folder for the statistics, figure and manifest.json (default: a "
-                        "new runs/sweep/<timestamp>/); the landscape itself goes to the cache")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                        help="processes (default: all cores)")
+    add_output_folder_argument(parser, "folder for the statistics, figure and manifest.json "
+                               "(created if needed; default: a new runs/sweep/<timestamp>/); "
+                               "the landscape itself goes to the cache")
+    add_workers_argument(parser, "processes")
     parser.set_defaults(run=run_sweep)
 
     stats = subparsers.add_parser(
@@ -46,19 +44,17 @@ def add_parser(subparsers) -> None:
         description="Per score: the distribution over feasible points, the minimum, the "
         "minimising locations (count, bounding box, most symmetric one), the feasible fraction. "
         "Prints them; with --output also writes the CSVs and the distribution figure.")
-    stats.add_argument("file", type=Path, help="a landscape .npz (the path `sweep` prints)")
-    stats.add_argument("--output", type=Path, metavar="DIR",
-                       help="also write landscape_stats.csv, landscape_distribution.csv and "
-                       ".png into DIR (created if needed)")
+    stats.add_argument("file", type=existing_file,
+                       help="a landscape .npz (the path `sweep` prints)")
+    add_output_folder_argument(stats, "also write landscape_stats.csv, "
+                               "landscape_distribution.csv and .png into DIR (created if "
+                               "needed)")
     stats.set_defaults(run=run_stats)
 
 
 def run_sweep(args: argparse.Namespace) -> int:
-    check_workers(args.workers)
     evaluator = evaluator_from_args(args)
-    grid = Grid(parse_boundary(args.boundary, evaluator.body, evaluator.task), args.step)
-    if args.output is not None and args.output.exists() and not args.output.is_dir():
-        raise InputError(f"output = '{args.output}' is a file (expected a directory)")
+    grid = grid_from_args(evaluator, args.boundary, args.step)
     print(grid.describe(), file=sys.stderr)
     start = time.perf_counter()
     # The door that also says whether the landscape was read from the cache (also when another
@@ -101,7 +97,7 @@ def report(landscape: Landscape, folder: Path | None) -> list[Path]:
 
 
 def run_stats(args: argparse.Namespace) -> int:
-    landscape = Landscape.load(args.file)
+    landscape = read_landscape(args.file)
     if args.output is not None:
         args.output.mkdir(parents=True, exist_ok=True)
     report(landscape, args.output)

@@ -11,135 +11,126 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from ..envs.handover_env import EPISODE_ENDS, EPISODE_STEPS
+from ..envs.scores import OBJECTIVES
 from ..io.csv_input import InputError
-from ..landscape.cache import Landscape
-from ..landscape.grid import DEFAULT_STEP, Grid, parse_boundary
 from ..landscape.store import cached_landscape
 from ..learning.agents import AGENTS, agent, run_agent
-from ..learning.qlearning import TEMPERATURES
+from ..learning.qlearning import TEMPERATURES, QLearningConfig
+from . import defaults
 from .options import (
     add_evaluator_arguments,
+    add_grid_arguments,
+    add_output_folder_argument,
     evaluator_from_args,
+    grid_from_args,
+    model_flags_given,
     run_folder,
-    task_flags_given,
 )
+from .parser import given
+from .refusals import read_landscape
+from .values import choice, existing_file, number, whole
 
-DESCRIPTION = """\
+Q = QLearningConfig()
+DESCRIPTION = f"""\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
-paper's: alpha 0.1, gamma 0.9, Q = 0, softmax with temperature 0.7; qlearning-adaptive: the
-paper's text's adaptive temperature), DQN (stable-baselines3), a random walk (the learner's
-moves and restarts, no learning), uniform random search or hill-climbing with random restarts,
-until a wall-clock or step cap.
+paper's: alpha {Q.alpha:g}, gamma {Q.gamma:g}, Q = 0, softmax with temperature {Q.tau:g};
+qlearning-adaptive: the paper's text's adaptive temperature), DQN (stable-baselines3), a random
+walk (the learner's moves and restarts, no learning), uniform random search or hill-climbing
+with random restarts, until a wall-clock or step cap.
 Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
---boundary/--step for this worker was swept before (`ergohandover sweep`), else they are computed
-online (memoised). Writes trace.csv (time_s, step, best score and
-its x, y, z after every improvement), best_locations.csv (every location found at the best
-score, the most symmetric first), q_table.npz (Q-learning: visited states only) or
-dqn_model.zip, and manifest.json into --output (default: a new runs/train/<timestamp>/)."""
+--boundary/--step for this worker was swept before (`ergohandover sweep` or the study), else
+they are computed online (memoised). Writes trace.csv (time_s, step, best score and its x, y, z
+after every improvement), best_locations.csv (every location found at the best score, the most
+symmetric first), q_table.npz (Q-learning: visited states only) or dqn_model.zip, and
+manifest.json into --output (default: a new runs/train/<timestamp>/)."""
+
+
+def time_cap_help() -> str:
+    caps = defaults.paper_wall_caps()
+    paper = "" if caps is None else (f" (the paper's: {' and '.join(f'{c:g}' for c in caps)}; "
+                                     f"{defaults.PAPER_CONFIG})")
+    return f"wall-clock cap [s]{paper}"
+
+
+def target_help() -> str:
+    """The paper's target and, where the study recorded it, the twin's own minimum."""
+    minimum = defaults.recorded_minimum(defaults.OBJECTIVE)
+    twin = ("" if minimum is None else
+            f"; the twin's own minimum of {defaults.OBJECTIVE} on the default grid is "
+            f"{minimum:g}, as the study computed it ({defaults.LANDSCAPE_STATS})")
+    return (f"with --episode-end paper: the episode ends when the score is at most E (default: "
+            f"{defaults.PAPER_TARGET:g}, the paper's target{twin})")
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "train", help="learn or search the best handover location under a time or step cap",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--agent", required=True, metavar="|".join(AGENTS),
-                        help="the learner or baseline")
+    parser.add_argument("--agent", required=True, type=choice(tuple(AGENTS)),
+                        metavar="|".join(AGENTS), help="the learner or baseline")
     caps = parser.add_argument_group("budget (give exactly one)")
-    caps.add_argument("--time-cap", metavar="S", help="wall-clock cap [s] (paper: 120, 300)")
-    caps.add_argument("--steps", metavar="N", help="step cap [env steps]; deterministic")
-    parser.add_argument("--seed", default="0", metavar="K",
-                        help="seed, an integer >= 0 (default: 0)")
-    parser.add_argument("--objective", default="paper_postural",
-                        metavar="paper_postural|reba|reba_ab|rula",
-                        help="score to minimise (default: paper_postural, the paper's)")
-    parser.add_argument("--temperature", default="fixed", metavar="fixed|adaptive",
-                        help="with --agent qlearning: fixed 0.7 (the published code) or adaptive "
-                        "(the paper's text; bounded 0.1-2.0), the same as --agent "
-                        "qlearning-adaptive (default: fixed)")
-    parser.add_argument("--target", default="4", metavar="E",
-                        help="with --episode-end paper: the episode ends when the score is at "
-                        "most E (default: 4, the paper's and, on the default grid, the twin's "
-                        "minimum too)")
-    parser.add_argument("--episode-end", default="paper", metavar="paper|none",
-                        help="paper: at the target; none: only by truncation (default: paper)")
-    parser.add_argument("--episode-steps", default="10000", metavar="N",
-                        help="truncate episodes after N steps, then restart at a random cell "
-                        "(default: 10000)")
-    parser.add_argument("--landscape", type=Path, metavar="FILE",
+    caps.add_argument("--time-cap", type=number(0, None, "s", above=True), metavar="S",
+                      help=time_cap_help())
+    caps.add_argument("--steps", type=whole(1), metavar="N",
+                      help="step cap [env steps]; deterministic")
+    parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="K",
+                        help=f"seed, an integer >= 0 (default: {defaults.SEED})")
+    parser.add_argument("--objective", type=choice(OBJECTIVES), default=defaults.OBJECTIVE,
+                        metavar="|".join(OBJECTIVES),
+                        help=f"score to minimise (default: {defaults.OBJECTIVE}, the paper's)")
+    parser.add_argument("--temperature", type=choice(TEMPERATURES),
+                        default=defaults.TEMPERATURE, metavar="|".join(TEMPERATURES),
+                        help=f"with --agent qlearning: fixed {Q.tau:g} (the published code) or "
+                        f"adaptive (the paper's text; bounded {Q.tau_bounds[0]:g}-"
+                        f"{Q.tau_bounds[1]:g}), the same as --agent qlearning-adaptive "
+                        f"(default: {defaults.TEMPERATURE})")
+    parser.add_argument("--target", type=number(0, None), default=defaults.PAPER_TARGET,
+                        metavar="E", help=target_help())
+    parser.add_argument("--episode-end", type=choice(EPISODE_ENDS),
+                        default=defaults.EPISODE_END, metavar="|".join(EPISODE_ENDS),
+                        help="paper: at the target; none: only by truncation, the study's "
+                        "(the paper's end tells the learner where the optimum is and teaches it "
+                        f"to avoid it: docs/learning.md) (default: {defaults.EPISODE_END})")
+    parser.add_argument("--episode-steps", type=whole(1), default=EPISODE_STEPS,
+                        metavar="N", help="truncate episodes after N steps, then restart at a "
+                        f"random cell (default: {EPISODE_STEPS})")
+    parser.add_argument("--landscape", type=existing_file, metavar="FILE",
                         help="read scores from this landscape file; its grid is used. Without "
                         "it: the landscape cache's for --boundary/--step if swept before, else "
                         "online")
-    parser.add_argument("--boundary", metavar="body|paper-code|X0,X1,Y0,Y1,Z0,Z1",
-                        help="grid boundary (default: paper-code, the published "
-                        "learner's, so online and landscape runs solve the same problem)")
-    parser.add_argument("--step", metavar="S",
-                        help=f"online grid step [m] (default: {DEFAULT_STEP})")
+    add_grid_arguments(parser, "grid boundary: the published learner's, the paper's "
+                       "body-derived one or explicit ranges in metres", "online grid step [m]")
     add_evaluator_arguments(parser, solver=False)
-    parser.add_argument("--output", type=Path, metavar="DIR",
-                        help="result directory (default: a new runs/train/<timestamp>/)")
+    add_output_folder_argument(parser, "result directory (created if needed; default: a new "
+                               "runs/train/<timestamp>/)")
     parser.set_defaults(run=run)
 
 
-def _choice(name: str, value: str, allowed) -> str:
-    if value not in allowed:
-        raise InputError(f"{name} = {value!r} is not allowed (use {', '.join(allowed)})")
-    return value
-
-
-def _number(name: str, text: str | None, kind, lo: float, strict: bool = False):
-    """``text`` as ``kind`` at least ``lo`` (above it if ``strict``); one-line InputError."""
-    if text is None:
-        return None
-    rule = f"{'>' if strict else '>='} {lo:g}"
-    try:
-        value = kind(text)
-    except ValueError:
-        value = None
-    if value is None or not math.isfinite(value) or value < lo or (strict and value == lo):
-        kind_name = "an integer" if kind is int else "a number"
-        raise InputError(f"{name} = {text!r} is outside the valid range ({kind_name} {rule})")
-    return value
-
-
 def parse(args: argparse.Namespace) -> dict:
-    """Every argument checked, as a dict of typed values (the run's resolved config)."""
-    from ..envs.handover_env import EPISODE_ENDS
-    from ..envs.scores import OBJECTIVES
-
+    """The run's resolved config: every flag was checked while parsing; here only what takes
+    two flags (a one-line InputError naming them)."""
     if (args.time_cap is None) == (args.steps is None):
         raise InputError("give exactly one of --time-cap S or --steps N (got "
                          f"{'neither' if args.time_cap is None else 'both'})")
-    name = _choice("agent", args.agent, AGENTS)
-    if _choice("temperature", args.temperature, TEMPERATURES) == "adaptive":
+    name = args.agent
+    if args.temperature == "adaptive":
         if agent(name).temperature is None:
-            raise InputError(f"temperature = 'adaptive' is not allowed with agent = {name!r} "
+            raise InputError(f"--temperature adaptive cannot be used with --agent {name} "
                              "(Q-learning's only: use --agent qlearning)")
         name = "qlearning-adaptive"
-    config = {
-        "agent": name,
-        "time_cap_s": _number("time-cap", args.time_cap, float, 0, strict=True),
-        "steps": _number("steps", args.steps, int, 1),
-        "seed": _number("seed", args.seed, int, 0),
-        "objective": _choice("objective", args.objective, OBJECTIVES),
-        "target": _number("target", args.target, float, 0),
-        "episode_end": _choice("episode-end", args.episode_end, EPISODE_ENDS),
-        "episode_steps": _number("episode-steps", args.episode_steps, int, 1),
-        "landscape": args.landscape,
-    }
+    config = {"agent": name, "time_cap_s": args.time_cap, "steps": args.steps,
+              "seed": args.seed, "objective": args.objective, "target": args.target,
+              "episode_end": args.episode_end, "episode_steps": args.episode_steps,
+              "landscape": args.landscape}
     if args.landscape is not None:
-        given = [f"--{f}" for f, v in (("boundary", args.boundary), ("step", args.step),
-                                      ("percentile", args.percentile), ("stature", args.stature),
-                                      ("mass", args.mass), ("sex", args.sex)) if v is not None]
-        given += ["--trunk-reference"] * (args.trunk_reference != "vertical")
-        given += task_flags_given(args)
-        if given:
-            raise InputError(f"{given[0]} cannot be used with --landscape (the landscape fixes "
+        grid_flags = [f"--{dest}" for dest in ("boundary", "step") if dest in given(args)]
+        fixed = grid_flags + model_flags_given(args)
+        if fixed:
+            raise InputError(f"{fixed[0]} cannot be used with --landscape (the landscape fixes "
                              "the grid, worker and task)")
-        if not args.landscape.is_file():
-            raise InputError(f"landscape = '{args.landscape}' is not an existing file")
     else:
-        config["boundary"] = args.boundary or "paper-code"
-        config["step"] = _number("step", args.step, float, 0, strict=True) or DEFAULT_STEP
+        config["boundary"], config["step"] = args.boundary, args.step
     return config
 
 
@@ -148,11 +139,10 @@ def build_env(config: dict, args: argparse.Namespace):
     from ..envs import HandoverEnv, LandscapeScores, OnlineScores
 
     if config["landscape"] is not None:
-        landscape = Landscape.load(config["landscape"])
+        landscape = read_landscape(config["landscape"], "--landscape")
     else:  # the landscape cache holds this grid's landscape if it was swept before
         evaluator = evaluator_from_args(args)
-        grid = Grid(parse_boundary(config["boundary"], evaluator.body, evaluator.task),
-                    config["step"])
+        grid = grid_from_args(evaluator, config["boundary"], config["step"])
         landscape = cached_landscape(evaluator, grid)
     if landscape is not None:
         scores = LandscapeScores(landscape, config["objective"])
@@ -180,8 +170,6 @@ def _bar(config: dict) -> tqdm:
 
 def run(args: argparse.Namespace) -> int:
     config = parse(args)
-    if args.output is not None and args.output.exists() and not args.output.is_dir():
-        raise InputError(f"output = '{args.output}' is a file (expected a directory)")
     started = time.perf_counter()
     env, landscape, source = build_env(config, args)
     with _bar(config) as bar:

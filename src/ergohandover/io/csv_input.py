@@ -1,4 +1,9 @@
-"""Reading user CSV files: cells as text, numbers checked, every problem one line."""
+"""Reading user CSV files: cells as text, numbers checked, every problem one line naming the file.
+
+The file's bytes are read and decoded here rather than by pandas, so that a missing file, a
+folder, a binary file (a landscape ``.npz`` or a picture given by mistake) or a file in another
+encoding is named with what is wrong, not answered with a codec's or a tokenizer's message.
+"""
 
 from __future__ import annotations
 
@@ -6,6 +11,7 @@ import io
 import os
 import sys
 from collections.abc import Mapping
+from pathlib import Path
 from typing import IO
 
 import numpy as np
@@ -18,11 +24,45 @@ class InputError(ErgohandoverError, ValueError):
     """An input file that cannot be used; the message is one line naming what is wrong."""
 
 
-def open_source(source: str | os.PathLike | IO[str]) -> str | os.PathLike | IO[str]:
-    """``"-"`` means standard input (read whole, so that a parse error loses nothing)."""
+def read_bytes(source: str | os.PathLike, what: str) -> bytes:
+    """The bytes of a file, or of standard input for ``"-"``; a one-line InputError if the file
+    cannot be read."""
     if isinstance(source, str) and source == "-":
-        return io.StringIO(sys.stdin.read())
-    return source
+        stdin = sys.stdin
+        return stdin.buffer.read() if hasattr(stdin, "buffer") else stdin.read().encode()
+    path = Path(source)
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"{what} does not exist") from None
+    except IsADirectoryError:
+        raise InputError(f"{what} is a folder (expected a CSV file)") from None
+    except PermissionError:
+        raise InputError(f"{what} cannot be read (permission denied)") from None
+    except OSError as exc:
+        raise InputError(f"{what} cannot be read ({exc.strerror or type(exc).__name__})") \
+            from None
+
+
+def decode_text(data: bytes, what: str) -> str:
+    """``data`` as UTF-8 text (a byte-order mark allowed); binary data is an InputError."""
+    zero = data.find(b"\0")
+    if zero >= 0:
+        raise InputError(f"{what} is a binary file, not a CSV text file (a zero byte at "
+                         f"position {zero})")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{what} is not UTF-8 text (byte 0x{data[exc.start]:02x} at position "
+                         f"{exc.start}): expected a CSV file saved as UTF-8") from None
+
+
+def open_source(source: str | os.PathLike | IO[str], what: str) -> IO[str]:
+    """A text handle on a path, standard input (``"-"``) or an open handle (read whole, so that
+    a parse error loses nothing)."""
+    if hasattr(source, "read"):
+        return source  # type: ignore[return-value]
+    return io.StringIO(decode_text(read_bytes(source, what), what))  # type: ignore[arg-type]
 
 
 def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFrame:
@@ -30,10 +70,10 @@ def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFram
 
     Args:
         source: a path, ``"-"`` for stdin, or an open text handle.
-        what: how to name the input in messages.
+        what: how to name the input in messages (its file name).
     """
     try:
-        frame = pd.read_csv(open_source(source), dtype=str, keep_default_na=False,
+        frame = pd.read_csv(open_source(source, what), dtype=str, keep_default_na=False,
                             skipinitialspace=True)
     except pd.errors.EmptyDataError:
         raise InputError(f"{what} is empty (expected a header row and at least one row)") \
@@ -47,13 +87,15 @@ def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFram
     return frame
 
 
-def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str]) -> dict[str, np.ndarray]:
+def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str],
+                    what: str = "input") -> dict[str, np.ndarray]:
     """The named text columns as float arrays; a cell that is not a number is an error.
 
     Args:
         frame: cells as text.
         allowed: column name -> what the column allows (quoted in messages); columns absent
             from ``frame`` are skipped.
+        what: how to name the input in messages (its file name).
     """
     out = {}
     for name, expected in allowed.items():
@@ -67,7 +109,7 @@ def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str]) -> dict[str
             row = int(unparsed[0])
             cell = text.iloc[row]
             shown = repr(cell) if cell else "an empty cell"
-            raise InputError(f"row {row + 1}, column '{name}': {shown} is not a number "
+            raise InputError(f"{what}: row {row + 1}, column '{name}': {shown} is not a number "
                              f"(expected {expected})")
         out[name] = values
     return out

@@ -1,4 +1,5 @@
-"""Reading a Posture CSV (DESIGN.md's contract) into a validated :class:`Posture`.
+"""Reading a Posture CSV (the contract of docs/architecture.md, "File contracts") into a
+validated :class:`Posture`.
 
 Cells are read as text, so that an error can quote exactly what the file holds, and so that
 pass-through columns are written back unchanged.
@@ -11,7 +12,7 @@ from typing import IO
 
 import pandas as pd
 
-from ..ergonomics.posture import COLUMNS, Posture
+from ..ergonomics.posture import COLUMNS, Posture, PostureError
 from .csv_input import numeric_columns, read_csv_text
 
 
@@ -27,8 +28,12 @@ def read_postures(source: str | os.PathLike | IO[str],
         The file's cells as text (every column, in file order) and the validated postures.
 
     Raises:
-        InputError, PostureError: with a one-line message naming the row, column and value.
+        InputError, PostureError: with a one-line message naming the file, row, column and
+        value.
     """
     frame = read_csv_text(source, what)
-    posture = Posture(numeric_columns(frame, {c.name: c.allowed for c in COLUMNS}))
+    try:
+        posture = Posture(numeric_columns(frame, {c.name: c.allowed for c in COLUMNS}, what))
+    except PostureError as exc:  # the posture's own checks name the row and column, not the file
+        raise PostureError(f"{what}: {exc}", exc.row, exc.column, exc.value) from None
     return frame, posture
