@@ -1,76 +1,310 @@
-"""Compare two results folders (e.g. the committed results/ and a rerun): every score,
-location, count and step must be equal; wall-time columns may differ, and their spread is
-printed. Learning runs under a wall-clock cap are left out (how far a run gets in 2 s depends on
-the machine's load); every step-budgeted run must repeat exactly.
+"""Compare two results folders of the study (e.g. the committed results/ and a rerun made with
+``python experiments/run_all.py --force --results /tmp/rerun``) and the landscapes they record.
 
-Usage: python experiments/analysis/compare_runs.py RESULTS_A RESULTS_B [PART ...]
-(PART: compare only these parts' tables, e.g. population after a run with --engine ray.)
-Exit code 1 if anything but a wall time differs.
+Compared (both folders are walked; a top-level ``quick/`` is a run of its own, left out): every
+CSV in every subfolder, cell for cell as written (a float repeats to its last digit) but for the
+machine-dependent columns and rows of :data:`TOLERANCES`, whose measured spread is printed; each
+``manifest.json``'s ``config`` and ``seeds``. A CSV or manifest in one folder only differs.
+Landscapes: the keys the results record (any ``landscape_key`` in a manifest or a CSV), paired
+by where they are recorded. Without --cache-a/--cache-b both sides read one cache, where a key
+is one file: equal keys are identical by construction (said so). A rerun from an empty cache
+has a cache of its own (ERGOHANDOVER_CACHE=DIR); given both caches, each recorded pair and every
+other key both caches hold is compared bit for bit (numpy.array_equal of the arrays' bits),
+with the number of points and where they differ; a recorded landscape missing from one differs.
+
+Not compared (each reported as byte-identical or not, never a difference): ``*.md`` (tables.md
+and baselines.md render the CSVs compared here with run times, planning seconds and wall-clock-
+capped results; README.md is prose); ``*.png``/``*.gif`` renders (their pixels follow the
+renderer's and image libraries' versions; the paths they draw, baselines/paths/*.csv, are
+compared); the rest of a manifest (command, commit, versions, machine, engine, wall and sweep
+times, code hash, cache reuse counts, totals that include wall-clock-capped runs); a landscape
+file's metadata but its grid. Exit code: 0 when everything compared matches (within
+:data:`TOLERANCES`), 1 when anything differs, 2 on bad usage (one line naming the argument).
 """
 
 from __future__ import annotations
 
+import argparse
+import fnmatch
+import json
+import math
 import sys
+from collections.abc import Iterator
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
-TABLES = ("landscape/stats.csv", "landscape/distribution.csv", "landscape/variants.csv",
-          "landscape/gaze_effect.csv", "learning/targets.csv", "learning/runs.csv",
-          "learning/summary.csv", "learning/comparisons.csv", "learning/curves.csv",
-          "learning/found.csv", "baselines/baselines.csv", "baselines/other_starts.csv",
-          "baselines/reachability.csv", "baselines/reachability_summary.csv", "ablations/ik.csv",
-          "participants/participants.csv",
-          *(f"population/{n}.csv" for n in ("workers", "penalties", "one_size", "groups",
-                                            "height_fit", "working_heights")),
-          "sensitivity/sensitivity.csv", "validation/validation.csv",
-          "validation/knee_height.csv")
-TIME_COLUMNS = {"elapsed_s", "steps_per_s", "planning_s", "median_steps_per_s"}
+
+class Tolerance(NamedTuple):
+    files: str  # fnmatch pattern of a CSV's path inside the results folder
+    column: str | None  # None: the rule for rows
+    kind: str  # time: any value; abs: |a - b| <= limit; rel: relative; rows: left out
+    limit: float | None
+    reason: str
 
 
-def read(folder: Path, name: str) -> pd.DataFrame:
-    table = pd.read_csv(folder / name)
-    if name in ("learning/runs.csv", "learning/summary.csv"):
-        # wall-clock-capped runs depend on the machine's load
-        table = table[table["steps"].notna()].reset_index(drop=True)
-    if name in ("learning/found.csv", "learning/comparisons.csv"):
-        # the study names wall-clock budgets wall-<cap>s
-        table = table[~table["budget"].str.startswith("wall-")].reset_index(drop=True)
-    return table
+TOLERANCES = (
+    Tolerance("*", "elapsed_s", "time", None, "wall time of a learning run"),
+    Tolerance("*", "steps_per_s", "time", None, "speed of a learning run"),
+    Tolerance("*", "median_steps_per_s", "time", None, "median speed of a cell's runs"),
+    Tolerance("*", "time_s", "time", None, "wall-clock stamp of a trace row"),
+    Tolerance("*", "first_reached_s", "time", None, "wall time to the first best score"),
+    Tolerance("*", "planning_s", "time", None, "wall time of the robot's planner"),
+    Tolerance("baselines/*", "checks", "abs", 9, "the robot planner's pose checks per carry: "
+              "OMPL's RRT-Connect is seeded, but floating point differs across processors "
+              "(measured: up to +-9 per carry across machines)"),
+    Tolerance("baselines/*", "path_length_m", "rel", 1e-12, "a sum of float distances along "
+              "the planned path: its last digits follow the processor's floating point"),
+    Tolerance("*", None, "rows", None, "runs under a wall-clock cap (budget wall-*, steps "
+              "empty or stopped_by time_cap): how far a run gets follows the machine's load"),
+)
+"""Every exception to exact equality, with its reason."""
+LANDSCAPE_FILE = "landscapes/{key}.npz"
+"""A landscape's file inside a cache folder (the landscape cache's layout)."""
 
 
-def compare(a: Path, b: Path, parts: list[str] | None = None) -> bool:
-    same = True
-    for name in TABLES:
-        if parts and name.split("/")[0] not in parts:
+def tolerance(name: str, column: str | None) -> Tolerance | None:
+    """The rule of :data:`TOLERANCES` for ``column`` (None: the row rule) of CSV ``name``."""
+    return next((t for t in TOLERANCES if t.column == column
+                 and fnmatch.fnmatch(name, t.files)), None)
+
+
+def wall_capped(table: pd.DataFrame) -> np.ndarray:
+    """Rows of a table (read as text) that are runs, or summaries of runs, under a wall clock."""
+    empty = pd.Series("", index=table.index)
+    return (table.get("budget", empty).str.startswith("wall-") | (table.get("steps", "x") == "")
+            | (table.get("stopped_by", empty) == "time_cap")).to_numpy()
+
+
+def spread(rule: Tolerance, a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:
+    """Whether the numbers ``a`` and ``b`` agree under ``rule``, and their measured spread."""
+    if len(a) == 0:
+        return True, "no values"
+    diff = np.abs(a - b)
+    text = f"max abs diff {diff.max():.3g}"
+    if rule.kind == "time":
+        floor = 0.0 if rule.column.endswith("_per_s") else 0.05  # times under 50 ms: noise
+        big = (a > floor) & (b > floor)
+        if big.any():
+            ratio = b[big] / a[big]
+            text += (f"; B/A over {big.sum()} values{' above 50 ms' if floor else ''}: median "
+                     f"{np.median(ratio):.2f}, range {ratio.min():.2f}-{ratio.max():.2f}")
+        return True, text
+    if rule.kind == "abs":
+        return bool(diff.max() <= rule.limit), f"{text} (tolerance {rule.limit:g})"
+    relative = (diff / np.maximum(np.maximum(np.abs(a), np.abs(b)), 1e-300)).max()
+    return bool(relative <= rule.limit), f"max rel diff {relative:.2g} (tolerance {rule.limit:g})"
+
+
+def compare_tables(name: str, x: pd.DataFrame, y: pd.DataFrame) -> tuple[bool, list[str]]:
+    """Compare two CSV tables read as text: whether they agree, and the lines to print (the
+    first: identical / within tolerance / DIFFERS; then columns that differ and spreads)."""
+    notes, problems = [], []
+    if tolerance(name, None):
+        cx, cy = wall_capped(x), wall_capped(y)
+        if cx.any() or cy.any():
+            wx, wy, exact = x[cx], y[cy], [tolerance(name, c) is None for c in x]
+            changed = "" if wx.shape != wy.shape or list(wx) != list(wy) else (
+                f"; {(wx.to_numpy() != wy.to_numpy())[:, exact].any(axis=1).sum()} of them differ")
+            notes.append(f"wall-clock-capped rows left out: A {cx.sum()}, B {cy.sum()}{changed}")
+        x, y = x[~cx], y[~cy]
+    if list(x.columns) != list(y.columns):
+        return False, [f"DIFFERS: columns ({', '.join(sorted(set(x) ^ set(y))) or 'order'})"]
+    if len(x) != len(y):
+        return False, [f"DIFFERS: {len(x)} rows compared in A, {len(y)} in B", *notes]
+    for column in x.columns:
+        a, b = x[column].to_numpy(), y[column].to_numpy()
+        rule = tolerance(name, column)
+        if rule is None:
+            rows = np.flatnonzero(a != b)
+            if len(rows):
+                problems.append(f"column {column}: {len(rows)} rows differ, first at line "
+                                f"{x.index[rows[0]] + 2}: {a[rows[0]]!r} vs {b[rows[0]]!r}")
             continue
-        missing = [str(folder) for folder in (a, b) if not (folder / name).exists()]
-        if missing:
-            print(f"{name}: MISSING in {' and '.join(missing)}")
-            same = False
-            continue
-        x, y = read(a, name), read(b, name)
-        exact = [c for c in x.columns if c not in TIME_COLUMNS]
-        if not x[exact].equals(y[exact]):
-            diff = [c for c in exact if not x[c].equals(y[c])]
-            print(f"{name}: DIFFERS in {diff}")
-            same = False
+        na, nb = pd.to_numeric(a, errors="coerce"), pd.to_numeric(b, errors="coerce")
+        both = ~np.isnan(na) & ~np.isnan(nb)
+        ok, text = spread(rule, na[both], nb[both])
+        if ok and (a[~both] == b[~both]).all():  # empty or text cells must be equal
+            notes.append(f"{column} ({rule.kind}, tolerated): {text}")
         else:
-            print(f"{name}: identical ({len(x)} rows" + (
-                f"; wall-time columns {sorted(TIME_COLUMNS & set(x.columns))} differ)"
-                if TIME_COLUMNS & set(x.columns) else ")"))
-        for column in sorted(TIME_COLUMNS & set(x.columns)):
-            big = (x[column] > 0.05) & (y[column] > 0.05)  # sub-50 ms times are noise
-            if big.any():
-                ratio = (y.loc[big, column] / x.loc[big, column]).to_numpy()
-                print(f"   {column}: rerun/original over {big.sum()} runs above 50 ms: median "
-                      f"{np.median(ratio):.2f}, range {ratio.min():.2f}-{ratio.max():.2f}")
+            problems.append(f"column {column} beyond its tolerance: {text}")
+    head = (f"DIFFERS in {len(problems)} column(s)" if problems else
+            "within tolerance" if notes else "identical") + f" ({len(x)} rows compared)"
+    return not problems, [head, *problems, *notes]
+
+
+def walk(root: Path, parts: list[str]) -> dict[str, Path]:
+    """Every file under ``root`` by its posix path inside it, but a top-level ``quick/`` (a run
+    of its own) and hidden files; only the given parts' folders when ``parts``."""
+    found = {}
+    for path in sorted(root.rglob("*")):
+        rel = path.relative_to(root)
+        if (path.is_file() and rel.parts[0] != "quick" and not rel.name.startswith(".")
+                and (not parts or (len(rel.parts) > 1 and rel.parts[0] in parts))):
+            found[rel.as_posix()] = path
+    return found
+
+
+def recorded_keys(value, where: str) -> Iterator[tuple[str, str]]:
+    """(where, key) of every ``landscape_key`` in a manifest's JSON ``value``."""
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(
+        value, list) else ()
+    for k, v in items:
+        if k == "landscape_key" and isinstance(v, str):
+            yield where, v
+        yield from recorded_keys(v, f"{where}:{k}")
+
+
+def read_landscape(path: Path) -> tuple[dict, dict[str, np.ndarray]]:
+    """A landscape file's metadata and arrays (an ``.npz`` with a JSON ``meta`` entry)."""
+    with np.load(path, allow_pickle=False) as data:
+        return json.loads(str(data["meta"])), {n: data[n] for n in data.files if n != "meta"}
+
+
+def location(meta: dict, flat: int) -> str:
+    """' at (x, y, z) m' of grid point ``flat`` (C order, x slowest), if the grid is known."""
+    try:
+        box, step = meta["grid"]["boundary"], meta["grid"]["step"]
+        shape = [math.floor((box[a][1] - box[a][0]) / step + 1e-9) + 1 for a in "xyz"]
+        idx = np.unravel_index(flat, shape)
+        return " at (" + ", ".join(f"{box[a][0] + i * step:.3f}"
+                                   for a, i in zip("xyz", idx, strict=True)) + ") m"
+    except (KeyError, TypeError, ValueError):
+        return ""
+
+
+def compare_landscapes(a: Path, b: Path) -> tuple[bool, str]:
+    """Compare two landscape files array by array, bit for bit."""
+    missing = [str(p) for p in (a, b) if not p.exists()]
+    if missing:
+        return False, f"DIFFERS: not in the cache ({', '.join(missing)})"
+    (meta, xa), (meta_b, xb) = read_landscape(a), read_landscape(b)
+    if meta.get("grid") != meta_b.get("grid") or set(xa) != set(xb):
+        return False, "DIFFERS: grids or array names differ"
+    points = len(next(iter(xa.values()))) if xa else 0
+    problems = []
+    for name in sorted(xa):
+        u, v = xa[name], xb[name]
+        if u.shape != v.shape or u.dtype != v.dtype:
+            problems.append(f"{name} ({u.dtype}{u.shape} vs {v.dtype}{v.shape})")
+        elif not np.array_equal(bu := u.view(bits := f"u{u.dtype.itemsize}" if u.dtype.kind
+                                             in "biuf" else u.dtype), bv := v.view(bits)):
+            cells = np.flatnonzero(bu != bv)
+            problems.append(f"{name} at {len(cells):,} of {points:,} points, first point "
+                            f"{cells[0]}{location(meta, int(cells[0]))}: {u[cells[0]]} vs "
+                            f"{v[cells[0]]}")
+    if problems:
+        return False, "DIFFERS: " + "; ".join(problems)
+    return True, f"identical, {len(xa)} arrays of {points:,} points"
+
+
+def file_kind(name: str) -> str:
+    """csv, manifest, render or text (the last two compared for bytes only)."""
+    return ("csv" if name.endswith(".csv") else "manifest" if name.endswith("manifest.json")
+            else "render" if Path(name).suffix in (".png", ".gif") else "text")
+
+
+def compare_file(name: str, a: Path, b: Path, keys: tuple[dict, dict]) -> tuple[bool, str]:
+    """Compare a file both folders hold: whether it agrees, and the text to print; adds the
+    landscape keys it records to ``keys`` (where -> key, for A and for B)."""
+    kind = file_kind(name)
+    if kind == "csv":
+        x, y = (pd.read_csv(p, dtype=str, keep_default_na=False) for p in (a, b))
+        for found, table in zip(keys, (x, y), strict=True):
+            if "landscape_key" in table:
+                found.update((f"{name} line {i + 2}", k)
+                             for i, k in enumerate(table["landscape_key"]) if k)
+        ok, lines = compare_tables(name, x, y)
+        return ok, "\n    ".join(lines)
+    if kind == "manifest":
+        ma, mb = json.loads(a.read_text()), json.loads(b.read_text())
+        keys[0].update(recorded_keys(ma, name))
+        keys[1].update(recorded_keys(mb, name))
+        diff = [k for k in ("config", "seeds") if ma.get(k) != mb.get(k)]
+        return not diff, f"DIFFERS in {diff}" if diff else "config and seeds identical"
+    same = "yes" if a.read_bytes() == b.read_bytes() else "no"
+    return True, f"not compared ({kind}); byte-identical: {same}"
+
+
+def compare_keys(pairs: list[tuple[str, str]], caches: tuple[Path, Path] | None) -> bool:
+    """Compare the landscapes of each (key in A, key in B), a line each; True when all agree."""
+    one_cache = caches is None or caches[0].resolve() == caches[1].resolve()
+    same = True
+    for ka, kb in pairs:
+        if one_cache and ka == kb:
+            ok, text = True, "same key in the same cache: identical by construction"
+        elif caches is None:
+            ok, text = False, "DIFFERS: keys differ; arrays not compared (give --cache-a/-b)"
+        else:
+            ok, text = compare_landscapes(caches[0] / LANDSCAPE_FILE.format(key=ka),
+                                          caches[1] / LANDSCAPE_FILE.format(key=kb))
+        print(f"landscape {ka}" + (f" vs {kb}" if kb != ka else "") + f": {text}")
+        same &= ok
     return same
 
 
+def compare(a: Path, b: Path, parts: list[str], caches: tuple[Path, Path] | None) -> bool:
+    """Compare results folders ``a`` and ``b``, printing a line per file and landscape; True
+    when they agree. ``caches``: their landscape caches (None: one cache for both)."""
+    fa, fb = walk(a, parts), walk(b, parts)
+    same, keys, csv, csv_bad = True, ({}, {}), 0, 0
+    print(f"A = {a}\nB = {b}")
+    for name in sorted(set(fa) | set(fb)):
+        kind = file_kind(name)
+        if name in fa and name in fb:
+            ok, text = compare_file(name, fa[name], fb[name], keys)
+        else:
+            ok = kind not in ("csv", "manifest")
+            text = f"{'' if ok else 'DIFFERS: '}missing in {'A' if name not in fa else 'B'}"
+        print(f"{name}: {text}")
+        same &= ok
+        csv += kind == "csv"
+        csv_bad += kind == "csv" and not ok
+    pairs = sorted({(keys[0][w], keys[1][w]) for w in set(keys[0]) & set(keys[1])})
+    if caches and caches[0].resolve() != caches[1].resolve() and not parts:
+        held = [{p.stem for p in (c / LANDSCAPE_FILE).parent.glob("*.npz")} for c in caches]
+        pairs += [(k, k) for k in sorted(held[0] & held[1]) if (k, k) not in pairs]
+    same &= compare_keys(pairs, caches)
+    print(f"\n{csv} CSV files compared, {csv_bad} differ; {len(pairs)} landscape key(s) "
+          f"compared; {'everything matches' if same else 'DIFFERENCES found'}")
+    return same
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # one line, exit code 2
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = Parser(prog="compare_runs.py", description=__doc__.split("\n\n")[0] + " Exit code "
+                    "0: everything matches (see TOLERANCES in this module); 1: something "
+                    "differs; 2: bad usage.", epilog="tolerated: " + "; ".join(
+                        f"{t.column or 'wall-clock-capped rows'} ({t.kind}"
+                        + ("" if t.limit is None else f" {t.limit:g}") + ")" for t in TOLERANCES))
+    parser.add_argument("results_a", metavar="RESULTS_A", type=Path, help="a results folder")
+    parser.add_argument("results_b", metavar="RESULTS_B", type=Path, help="the other one")
+    parser.add_argument("parts", metavar="PART", nargs="*", default=[], help="compare only "
+                        "these parts' folders (e.g. population after a run with --engine ray)")
+    parser.add_argument("--cache-a", metavar="DIR", type=Path, help="landscape cache of "
+                        "RESULTS_A; with --cache-b, landscapes are compared bit for bit "
+                        "(default: one cache for both, where equal keys are identical)")
+    parser.add_argument("--cache-b", metavar="DIR", type=Path, help="landscape cache of "
+                        "RESULTS_B (e.g. the empty folder a rerun started from)")
+    args = parser.parse_args(argv)
+    for label, path in (("RESULTS_A", args.results_a), ("RESULTS_B", args.results_b),
+                        ("--cache-a", args.cache_a), ("--cache-b", args.cache_b)):
+        if path is not None and not path.is_dir():
+            parser.error(f"{label} = '{path}' is not a folder")
+    if (args.cache_a is None) != (args.cache_b is None):
+        parser.error("--cache-a and --cache-b go together (each run's landscape cache)")
+    for part in args.parts:
+        if not ((args.results_a / part).is_dir() or (args.results_b / part).is_dir()):
+            parser.error(f"PART = '{part}' is not a folder of RESULTS_A or RESULTS_B")
+    caches = None if args.cache_a is None else (args.cache_a, args.cache_b)
+    return 0 if compare(args.results_a, args.results_b, args.parts, caches) else 1
+
+
 if __name__ == "__main__":
-    if len(sys.argv) < 3 or sys.argv[1] in ("-h", "--help"):
-        print(__doc__)
-        sys.exit(0 if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help") else 2)
-    sys.exit(0 if compare(Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3:]) else 1)
+    sys.exit(main())
