@@ -1,9 +1,10 @@
 """Figures of the learning study, one panel per target: (1) the minimum score of every run, per
-agent and budget (the paper's box plot, with the other agents beside Q-learning); (2) the
-evaluations each run needed to reach the target, censored runs drawn at their budget; (3) the
-share of runs that have reached the target and (4) the mean best score so far, against
-evaluations, with 95 % bootstrap bands; (5) greedy rollouts of the learned policies against the
-random walk. Reads results/learning/ only."""
+agent and budget, as counts of runs at the optimum and at each whole step above it (the paper
+drew a box plot; with 10 runs on 2-4 score values its boxes are lines); (2) the evaluations each
+run needed to reach the target, censored runs drawn at their budget; (3) the share of runs that
+have reached the target and (4) the mean best score so far, against evaluations, with 95 %
+bootstrap bands; (5) greedy rollouts of the learned policies against the random walk. Reads
+results/learning/ only."""
 
 from __future__ import annotations
 
@@ -13,11 +14,29 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import seaborn as sns
-from common import read, save
+from common import (
+    SEED,
+    box_and_dots,
+    caption,
+    integer_axis,
+    is_integral,
+    n_text,
+    plot_kind,
+    read,
+    save,
+    share_of_grid,
+)
 from learning_tables import AGENT_NAMES
+from matplotlib.patches import Patch
 
 COLOURS = dict(zip(AGENT_NAMES, sns.color_palette("tab10", n_colors=len(AGENT_NAMES)),
                    strict=True))
+# Steps above the optimum: green at it, then warmer; the last level collects the rest.
+LEVELS = ["at the optimum", "above it by a tie-break", "1 above", "2 above", "3 above",
+          "4 or more above"]
+LEVEL_COLOURS = ["#1a9850", "#a6d96a", "#fee08b", "#fc8d59", "#d73027", "#7f0000"]
+HATCHES = ["", "////", "..", "xx"]  # one per budget, so that colour is left to the score
+SHARE_NOTE = ("Share of the grid: of all its points, infeasible ones included.")
 
 
 def panels(n: int, width: float = 4.2, height: float = 3.2):
@@ -33,8 +52,15 @@ def agents_in(frame: pd.DataFrame) -> list[str]:
     return [a for a in AGENT_NAMES if a in set(frame["agent"])]
 
 
+def agent_ticks(ax, order: list[str]) -> None:
+    ax.set_xticks(range(len(order)), [AGENT_NAMES[a].replace(" (", "\n(") for a in order],
+                  fontsize=7, rotation=30, ha="right")
+    ax.set_xlim(-0.5, len(order) - 0.5)
+    ax.set_xlabel("")
+
+
 def drawn_budgets(runs: pd.DataFrame) -> list[str]:
-    """The budgets the box plots show: the step budgets, smallest first; with none (the
+    """The budgets the per-run panels show: the step budgets, smallest first; with none (the
     paper's own protocol), the wall-clock caps."""
     stepped = runs.dropna(subset=["steps"])
     if stepped.empty:
@@ -42,76 +68,137 @@ def drawn_budgets(runs: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(stepped.sort_values("steps")["budget"]))
 
 
+def offsets(n_budgets: int) -> tuple[np.ndarray, float]:
+    """Each budget's offset from its agent's x, and the width of one budget's bar or box."""
+    width = 0.8 / n_budgets
+    return -0.4 + width * (np.arange(n_budgets) + 0.5), width
+
+
+def levels(best: pd.Series, optimum: float) -> pd.Series:
+    """Each run's minimum as an index into LEVELS: at the optimum; above it by less than half a
+    step (only the lexicographic objective, the paper's score plus a tie-break below 1, has
+    such values); or whole steps above it, rounded."""
+    excess = best - optimum
+    steps = excess.round().astype(int)
+    level = np.where(np.isclose(excess, 0, rtol=0, atol=1e-9), 0,
+                     np.where(steps == 0, 1, steps + 1))
+    return pd.Series(np.minimum(level, len(LEVELS) - 1), index=best.index)
+
+
+def stacked_counts(ax, data: pd.DataFrame, order: list[str], budgets: list[str]) -> int:
+    """Per agent and budget, a bar of runs stacked by steps above the optimum; returns the
+    tallest bar (its run count)."""
+    counts = pd.crosstab([data["agent"], data["budget"]], data["level"]).reindex(
+        index=pd.MultiIndex.from_product([order, budgets]),
+        columns=range(len(LEVELS)), fill_value=0).fillna(0)
+    shift, width = offsets(len(budgets))
+    for b, budget in enumerate(budgets):
+        cell = counts.xs(budget, level=1).reindex(order)
+        bottom = np.zeros(len(order))
+        for k, colour in enumerate(LEVEL_COLOURS):
+            ax.bar(np.arange(len(order)) + shift[b], cell[k], width * 0.92, bottom=bottom,
+                   color=colour, hatch=HATCHES[b % len(HATCHES)], edgecolor="0.3",
+                   linewidth=0.4)
+            bottom += cell[k].to_numpy()
+    return int(counts.sum(axis=1).max())
+
+
 def min_score(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
     budgets = drawn_budgets(runs)
-    fig, axes = panels(len(targets))
+    data = runs[runs["budget"].isin(budgets)]
+    sizes = data.groupby(["target", "agent", "budget"]).size()
+    fig, axes = panels(len(targets), height=3.4)
     for ax, t in zip(axes, targets.itertuples(), strict=True):
-        data = runs[(runs["target"] == t.target) & runs["budget"].isin(budgets)]
-        order = agents_in(data)
-        sns.boxplot(data=data, x="agent", y="best_score", hue="budget", order=order,
-                    hue_order=budgets, ax=ax, fliersize=0, linewidth=0.8)
-        # No jitter: seaborn draws it from numpy's global generator.
-        sns.stripplot(data=data, x="agent", y="best_score", hue="budget", order=order,
-                      hue_order=budgets, dodge=True, jitter=False, ax=ax, size=3,
-                      palette="dark:#08306b", legend=False)
-        ax.axhline(t.score, color="#d62728", ls="--", lw=1)
-        ax.set_title(f"{t.target}: optimum {t.score:g} on {t.fraction:.3%} of the grid",
+        cell = data[data["target"] == t.target]
+        cell = cell.assign(level=levels(cell["best_score"], t.score))
+        order = agents_in(cell)
+        if plot_kind(cell["level"]) == "counts":
+            top = stacked_counts(ax, cell, order, budgets)
+            integer_axis(ax, "y")
+            ax.set_ylim(0, top * 1.03)
+            ax.set_ylabel("runs (stacked by their minimum)", fontsize=8)
+            ax.grid(axis="y", color="0.85", lw=0.5, zorder=0)
+            ax.set_axisbelow(True)
+        else:  # many score values: the minima themselves, boxes where they inform
+            shift, width = offsets(len(budgets))
+            palette = sns.color_palette("tab10", n_colors=len(budgets))
+            for (a, b), group in cell.groupby(["agent", "budget"], sort=False):
+                i, j = order.index(a), budgets.index(b)
+                box_and_dots(ax, i + shift[j], group["best_score"], palette[j], width,
+                             seed=SEED + i * len(budgets) + j)
+            ax.axhline(t.score, color="#d62728", ls="--", lw=1)
+            if is_integral(cell["best_score"]):
+                integer_axis(ax, "y", cell["best_score"])
+            ax.set_ylabel(f"minimum {t.objective} of the run", fontsize=8)
+        ax.set_title(f"{t.target}: optimum {t.score:g} on {share_of_grid(t.fraction)}",
                      fontsize=9)
-        ax.set_xticks(range(len(order)), [AGENT_NAMES[a].replace(" (", "\n(") for a in order],
-                      fontsize=7, rotation=30, ha="right")
-        ax.set_xlabel("")
-        ax.set_ylabel(f"minimum {t.objective} of the run", fontsize=8)
-        ax.legend(fontsize=7, title=None) if ax is axes[0] else ax.get_legend().remove()
-    fig.suptitle("Minimum score per run (dashed: the exhaustive optimum)")
-    fig.tight_layout()
+        agent_ticks(ax, order)
+    handles = [Patch(facecolor=c, edgecolor="0.3", label=f"minimum {name}")
+               for c, name in zip(LEVEL_COLOURS, LEVELS, strict=True)]
+    handles += [Patch(facecolor="white", edgecolor="0.3", hatch=HATCHES[b % len(HATCHES)],
+                      label=budget) for b, budget in enumerate(budgets)]
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7,
+               bbox_to_anchor=(0.5, 0.965), frameon=False)
+    fig.suptitle("Minimum score per run: runs at the optimum and steps above it "
+                 f"({n_text(sizes, 'runs per bar')})", y=0.995)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    caption(fig, "Each bar counts one agent's runs at one budget by the minimum score the "
+                 "run found. The lexicographic objective is the paper's score plus a tie-break "
+                 "below 1: its steps are the paper score's (rounded), and a run at the paper "
+                 "score's minimum but not the tie-break's is 'above it by a tie-break'. "
+                 + SHARE_NOTE)
     save(fig, "learning_min_score.png")
 
 
 def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
     budgets = drawn_budgets(runs)
-    fig, axes = panels(len(targets))
+    data = runs[runs["budget"].isin(budgets)].assign(
+        hit=lambda f: f["reached"].astype(str) == "True",
+        evals=lambda f: f["evaluations_to_target"].clip(lower=1))
+    sizes = data.groupby(["target", "agent", "budget"]).size()
+    palette = sns.color_palette("tab10", n_colors=len(budgets))
+    shift, width = offsets(len(budgets))
+    fig, axes = panels(len(targets), height=3.4)
     for ax, t in zip(axes, targets.itertuples(), strict=True):
-        data = runs[(runs["target"] == t.target) & runs["budget"].isin(budgets)].copy()
-        order = agents_in(data)
-        reached = data[data["reached"].astype(str) == "True"].copy()
-        reached["evals"] = reached["evaluations_to_target"].clip(lower=1)
-        if len(reached):
-            sns.boxplot(data=reached, x="agent", y="evals", hue="budget", order=order,
-                        hue_order=budgets, ax=ax, fliersize=0, linewidth=0.8, log_scale=True)
+        cell = data[data["target"] == t.target]
+        order = agents_in(cell)
+        for (a, b), group in cell.groupby(["agent", "budget"], sort=False):
+            i, j = order.index(a), budgets.index(b)
+            x, seed = i + shift[j], SEED + i * len(budgets) + j
+            box_and_dots(ax, x, group.loc[group["hit"], "evals"], palette[j], width, seed)
+            missed = group.loc[~group["hit"], "evaluations"].to_numpy(dtype=float)
+            # Censored: never reached within the budget (or the cap), drawn at the budget.
+            spread = (np.arange(missed.size) - (missed.size - 1) / 2) * 0.12 * width
+            ax.scatter(x + spread, missed,
+                       marker="x", color="#d62728", s=14, lw=0.8, zorder=3)
+            ax.text(x, 0.97, f"{int(group['hit'].sum())}/{len(group)}", fontsize=5.5,
+                    ha="center", va="top", transform=ax.get_xaxis_transform())
         ax.set_yscale("log")
-        width = 0.8 / len(budgets)
-        for b, budget in enumerate(budgets):
-            for i, agent in enumerate(order):
-                cell = data[(data["agent"] == agent) & (data["budget"] == budget)]
-                if cell.empty:
-                    continue
-                x = i - 0.4 + width * (b + 0.5)
-                missed = cell[cell["reached"].astype(str) != "True"]
-                if len(missed):  # censored: never reached within the budget (or the cap)
-                    ax.scatter([x] * len(missed), missed["evaluations"],
-                               marker="x", color="#d62728", s=18, zorder=3)
-                ax.text(x, 0.02, f"{len(cell) - len(missed)}/{len(cell)}", fontsize=6,
-                        ha="center", transform=ax.get_xaxis_transform())
-        ax.set_title(f"{t.target} ({t.fraction:.3%} of the grid)", fontsize=9)
-        ax.set_xticks(range(len(order)), [AGENT_NAMES[a].replace(" (", "\n(") for a in order],
-                      fontsize=7, rotation=30, ha="right")
-        ax.set_xlabel("")
+        low, high = cell["evals"].min(), cell["evaluations"].max()
+        ax.set_ylim(0.5 if not low > 1 else low / 2, high * 12)  # headroom for the k/n row
+        ax.set_title(f"{t.target}: target on {share_of_grid(t.fraction)}", fontsize=9)
         ax.set_ylabel("evaluations to the target", fontsize=8)
-        legend = ax.get_legend()
-        if legend is not None and ax is not axes[0]:
-            legend.remove()
-    fig.suptitle("Evaluations to the target (x: never reached within the budget; "
-                 "k/n: runs that reached it)")
-    fig.tight_layout()
+        agent_ticks(ax, order)
+    handles = [Patch(facecolor=c, label=b) for c, b in zip(palette, budgets, strict=True)]
+    handles.append(plt.Line2D([], [], marker="x", color="#d62728", ls="",
+                              label="never reached (drawn at the budget)"))
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7,
+               bbox_to_anchor=(0.5, 0.965), frameon=False)
+    fig.suptitle(f"Evaluations to the target, one dot per run ({n_text(sizes, 'runs')} per "
+                 "agent and budget; k/n: runs that reached it)", y=0.995)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    caption(fig, "A box is drawn where at least 5 runs reached the target, at 5 or more "
+                 f"distinct evaluation counts; otherwise the dots alone. {SHARE_NOTE}")
     save(fig, "learning_evaluations.png")
 
 
-def curves(curve: pd.DataFrame, targets: pd.DataFrame, value: str, low: str, high: str,
-           ylabel: str, name: str, title: str) -> None:
+def curves(curve: pd.DataFrame, runs: pd.DataFrame, targets: pd.DataFrame, value: str,
+           low: str, high: str, ylabel: str, name: str, title: str) -> None:
     if curve.empty:  # wall-clock caps only: no shared evaluation axis, no curves
         return
     budget = curve.sort_values("evaluations")["budget"].iloc[-1]  # the largest budget
     curve = curve[curve["budget"] == budget]
+    sizes = runs[runs["budget"] == budget].groupby(["target", "agent"]).size()
     fig, axes = panels(len(targets))
     for ax, t in zip(axes, targets.itertuples(), strict=True):
         for agent in agents_in(curve):
@@ -124,12 +211,17 @@ def curves(curve: pd.DataFrame, targets: pd.DataFrame, value: str, low: str, hig
                             lw=0)
         if value == "mean_best":
             ax.axhline(t.score, color="#d62728", ls="--", lw=1)
+            if is_integral([t.score]):  # a mean of integer scores, on the scores' ticks
+                integer_axis(ax, "y")
+        else:
+            ax.set_ylim(-0.03, 1.03)
         ax.set_xscale("log")
         ax.set_title(t.target, fontsize=9)
         ax.set_xlabel("evaluations (log)", fontsize=8)
         ax.set_ylabel(ylabel, fontsize=8)
     axes[0].legend(fontsize=6)
-    fig.suptitle(f"{title} at {budget} (mean of runs, 95 % bootstrap band)")
+    fig.suptitle(f"{title} at {budget} (mean of {n_text(sizes, 'runs per curve')}, "
+                 "95 % bootstrap band)")
     fig.tight_layout()
     save(fig, name)
 
@@ -153,11 +245,16 @@ def rollouts(summary: pd.DataFrame) -> None:
                                  rows["rollout_ci_high"] - rate]), 0, None)
         ax.bar(x, rate, width, color=COLOURS[agent], label=AGENT_NAMES[agent],
                yerr=np.nan_to_num(err), capsize=2, error_kw={"lw": 0.8})
+        zero = rate == 0  # a bar of height 0 is invisible: say it, above its interval
+        for xz, top in zip(x[zero], rows["rollout_ci_high"].to_numpy()[zero], strict=True):
+            ax.text(xz, np.nan_to_num(top) + 0.01, "0", ha="center", va="bottom", fontsize=6,
+                    color=COLOURS[agent])
     ax.set_xticks(range(len(target_names)), target_names, fontsize=8, rotation=20)
-    ax.set_ylabel("walks that reach the target")
+    ax.set_ylabel("share of walks that reach the target")
     ax.set_ylim(0, 1.05)
     ax.set_title("Greedy rollouts of the final policy from the same random starts "
-                 "(95 % Wilson interval)", fontsize=10)
+                 f"({n_text(walks['rollouts'], 'walks per bar')}; 95 % Wilson interval)",
+                 fontsize=10)
     ax.legend(fontsize=7)
     save(fig, "learning_rollouts.png")
 
@@ -167,9 +264,10 @@ def main() -> None:
     summary, curve = read("learning/summary.csv"), read("learning/curves.csv")
     min_score(runs, targets)
     evaluations_to_target(runs, targets)
-    curves(curve, targets, "reached_share", "reached_low", "reached_high",
-           "share of runs at the target", "learning_success.png", "Runs that reached the target")
-    curves(curve, targets, "mean_best", "best_low", "best_high", "best score so far",
+    curves(curve, runs, targets, "reached_share", "reached_low", "reached_high",
+           "share of runs at the target", "learning_success.png",
+           "Runs that reached the target")
+    curves(curve, runs, targets, "mean_best", "best_low", "best_high", "mean best score so far",
            "learning_best_so_far.png", "Best score so far")
     rollouts(summary)
 

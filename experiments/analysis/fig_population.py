@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
-from common import read, save
+from common import SEED, caption, integer_axis, n_text, read, save
 from population_tables import CHOICE_NAMES, short_source
 
 COLOURS = {"female": "#c44e52", "male": "#4c72b0"}
@@ -24,13 +24,15 @@ def penalties() -> None:
     table = table[table["objective"] == OBJECTIVE]
     choices = list(dict.fromkeys(table["choice"]))
     fig, axes = plt.subplots(1, len(choices), figsize=(4.2 * len(choices), 3.6), sharey=True)
-    # Scores are whole numbers: a small fixed vertical spread keeps equal penalties visible.
-    jitter = np.random.default_rng(0).uniform(-0.12, 0.12, len(table) // len(choices))
+    # Scores are whole numbers: a small seeded vertical spread keeps equal penalties visible
+    # (the same for each worker in every panel, so a worker moves only by their penalty).
+    spread = np.random.default_rng(SEED).uniform(-0.12, 0.12, table["worker"].nunique())
+    table = table.assign(jitter=spread[table["worker"].factorize()[0]])
     for ax, choice in zip(axes, choices, strict=True):
         rows = table[table["choice"] == choice]
         for sex, colour in COLOURS.items():
-            pick = (rows["sex"] == sex).to_numpy()
-            ax.scatter(rows["stature_m"][pick], rows["penalty"][pick] + jitter[pick], s=18,
+            pick = rows[rows["sex"] == sex]
+            ax.scatter(pick["stature_m"], pick["penalty"] + pick["jitter"], s=18,
                        color=colour, label=sex, alpha=0.8)
         r = one_size.loc[(OBJECTIVE, choice)]
         ax.set_title(f"{CHOICE_NAMES[choice]}\n({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) m: mean "
@@ -38,10 +40,17 @@ def penalties() -> None:
                      fontsize=8)
         ax.set_xlabel("stature [m]")
         ax.axhline(0, color="0.6", lw=0.8)
+        ax.grid(axis="y", color="0.9", lw=0.5)
+    integer_axis(axes[0], "y", table["penalty"])  # shared by every panel
     axes[0].set_ylabel("penalty: postural score above own optimum")
     axes[0].legend(fontsize=8)
-    fig.suptitle(f"One handover location for everyone: who pays (N = {len(rows)} sampled "
-                 "workers; 95 % bootstrap intervals)", fontsize=9, y=1.06)
+    sizes = table.groupby("choice").size()
+    count = n_text(sizes, "sampled workers")
+    fig.suptitle(f"One handover location for everyone: who pays ({count} per panel; 95 % "
+                 "bootstrap intervals)", fontsize=9, y=1.06)
+    caption(fig, "Penalties are whole score steps; each worker's dot is spread vertically by "
+                 "the same small fixed amount in every panel so that equal penalties stay "
+                 "visible.", width=140)
     save(fig, "population_penalties.png")
 
 
@@ -67,8 +76,10 @@ def optima() -> None:
     for sex, colour in COLOURS.items():
         rows = sampled[sampled["sex"] == sex]
         left.scatter(rows["stature_m"], rows[f"{OBJECTIVE}_y"], s=18, color=colour, label=sex)
-        right.scatter(rows[f"{OBJECTIVE}_z"], rows[f"{OBJECTIVE}_y"], s=18, color=colour,
-                      label=f"{sex}: own optimum", alpha=0.7)
+        # Optima lie on the grid and many workers share one: dot area counts them.
+        at = rows.groupby([f"{OBJECTIVE}_z", f"{OBJECTIVE}_y"]).size().reset_index(name="n")
+        right.scatter(at[f"{OBJECTIVE}_z"], at[f"{OBJECTIVE}_y"], s=18 * at["n"], color=colour,
+                      label=f"{sex}: own optimum (area: workers)", alpha=0.7)
     left.set_xlabel("stature [m]")
     left.set_ylabel("height of the own optimum, y [m]")
     left.legend(fontsize=7)
@@ -82,6 +93,9 @@ def optima() -> None:
     right.legend(fontsize=7)
     right.set_title(f"Own optima and one-size locations, side view (N = {len(sampled)})",
                     fontsize=9)
+    fig.suptitle(f"Each sampled worker's own optimum (N = {len(sampled)} workers), postural "
+                 "score", fontsize=10)
+    fig.tight_layout()
     save(fig, "population_optima.png")
 
 

@@ -21,6 +21,8 @@ def main() -> None:
     fig, ax = plt.subplots(figsize=(8, 0.32 * len(rows) + 1.5))
     y = np.arange(len(rows))
     ax.barh(y, rows["shift_cm"], color=colours)
+    # A dot at each bar's end: a shift of 0 cm (most variants) is otherwise no bar at all.
+    ax.scatter(rows["shift_cm"], y, color=colours, s=12, zorder=3)
     labels = [f"{g}: {v}" for g, v in zip(rows["group"], rows["variant"], strict=True)]
     ax.set_yticks(y, labels, fontsize=8)
     for k, (shift, holds, low) in enumerate(zip(rows["shift_cm"], rows["conclusion_holds"],
@@ -32,9 +34,9 @@ def main() -> None:
     ax.legend(handles, [f"minimum paper score {k} the default's "
                         f"{default['paper_postural_min']}" for k in COLOURS],
               fontsize=7, loc="lower right")
-    ax.set_title(f"Sensitivity of the optimum to the model ({len(rows)} variants)\n"
+    ax.set_title(f"Sensitivity of the optimum to the model (N = {len(rows)} variants)\n"
                  f"{default['grid']}", fontsize=10)
-    ax.set_xlim(0, max(rows["shift_cm"].max(), 1.0) * 1.35)
+    ax.set_xlim(-0.4, max(rows["shift_cm"].max(), 1.0) * 1.35)  # room for the dots at 0
     save(fig, "sensitivity.png")
 
 

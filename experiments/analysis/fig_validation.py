@@ -35,8 +35,9 @@ def main() -> None:
     ax.set_yticks(y, labels, fontsize=7)
     ax.axvline(0, color="black", linewidth=0.5)
     ax.set_xlabel("degrees or centimetres (see each label)")
-    ax.set_title(f"The twin beside published human data: {int(within.sum())} of {len(table)} "
-                 f"conditions within ({table['source'].nunique()} sources)", fontsize=10)
+    ax.set_title(f"The twin beside published human data (N = {len(table)} conditions from "
+                 f"{table['source'].nunique()} sources): {int(within.sum())} within",
+                 fontsize=10)
     ax.legend(fontsize=8, loc="upper right")
     save(fig, "validation.png")
 
