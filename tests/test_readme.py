@@ -137,7 +137,8 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
         ["mostly " + " and ".join(f"{int(r.value)} ({100 * r.fraction:.0f} %)"
                                   for r in top.itertuples()),
          f"the minimum is **{int(postural['min'])}**",
-         f"on {100 * postural['fraction_at_min']:.2f} % of the feasible points",
+         f"on {100 * postural['n_at_min'] / postural['points']:.2f} % of the grid "
+         f"({100 * postural['fraction_at_min']:.2f} % of the feasible points)",
          f"({postural['best_x']:.3f}, {postural['best_y']:.3f}, {postural['best_z']:.3f}) m",
          f"on {100 * gaze_off['fraction_at_min']:.1f} % of a {100 * gaze_off['step']:.0f} cm grid",
          f"; {int(no_effort['paper_postural_min'])} when the twin does not feel the load"])

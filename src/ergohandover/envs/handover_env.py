@@ -75,8 +75,9 @@ class HandoverEnv(gym.Env):
 
     ## Episode End
     ``episode_end="paper"``: terminated when the score is at most ``target`` (4, the paper's
-    optimum). Our twin's landscape never goes below 5, so on it the paper's rule never fires;
-    pass ``target=5`` to end on its true minimum. ``episode_end="none"``: never terminated.
+    optimum; the twin's own minimum on a grid is in its landscape's statistics, e.g.
+    ``results/landscape/stats.csv``). ``episode_end="none"``: never terminated (the study's
+    default: :mod:`ergohandover.study.parts.learning` says why).
     Truncation is left to the ``TimeLimit`` of :func:`~ergohandover.envs.register`
     (:data:`EPISODE_STEPS`).
 

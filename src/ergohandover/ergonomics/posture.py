@@ -1,8 +1,9 @@
 """The Posture table: N postures as named numpy columns, validated once at the boundary.
 
-Columns follow DESIGN.md's Posture CSV contract. Angles are in degrees, signed flexion +,
-extension −; side bend, twist, abduction, rotation, deviation may be signed (scorers use the
-magnitude). Task factors and flags are optional and take documented defaults.
+Columns follow the Posture CSV contract (docs/architecture.md, File contracts). Angles are in
+degrees, signed flexion +, extension −; side bend, twist, abduction, rotation, deviation may be
+signed (scorers use the magnitude). Task factors and flags are optional and take
+documented defaults.
 """
 
 from __future__ import annotations

@@ -10,7 +10,8 @@ from .reba import reba
 from .rula import rula
 from .settings import ScoringSettings
 
-# The headline score columns of DESIGN.md, in contract order; item scores follow them.
+# The headline score columns of the file contracts (docs/architecture.md), in contract order;
+# item scores follow them.
 OBJECTIVES = ("paper_postural", "reba", "reba_ab", "rula")
 """The headline scores (lower is safer): what a learner can minimise and what every table of
 the study reports."""

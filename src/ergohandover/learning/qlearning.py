@@ -40,7 +40,7 @@ class QLearningConfig:
         tau_step: adaptive change of τ per event (paper: 0.1).
         tau_bounds: (lowest, highest) adaptive τ; the paper gives none: 0.1 keeps the softmax
             from collapsing to greedy on rewards of ~0.02-0.1, 2.0 keeps it from drifting to
-            uniform forever (on our landscape, where the score never drops below 5, τ only
+            uniform forever (where the score rarely drops below ``threshold``, τ mostly
             rises and reaches 2.0 within a few thousand steps).
         threshold: the score below which an improvement lowers τ (paper: 5).
         episode_steps: steps after which an episode is cut and restarted at a random cell.

@@ -16,8 +16,10 @@ import json
 from pathlib import Path
 from typing import Any
 
+from ..envs.handover_env import EPISODE_ENDS
 from ..envs.scores import LEXICOGRAPHIC, OBJECTIVES
 from ..errors import ConfigError
+from ..landscape.grid import BOUNDARY_NAMES, DEFAULT_STEP
 from ..learning.agents import AGENTS
 from ..learning.targets import GOALS
 from ..twin.anthropometry import PERCENTILES, BodySpec
@@ -26,10 +28,11 @@ from ..twin.task import TaskSpec
 from .typed_json import from_json, setting, short
 from .workforce import Workforce
 
-BOUNDARIES = ("paper-code", "body")
+BOUNDARIES = BOUNDARY_NAMES
 GAZES = ("on", "off")
 WORKERS = tuple(sorted(PERCENTILES))
-EPISODE_ENDS = ("none", "paper")
+DEFAULT_WORKER = "p50-male"
+"""The study's worker (the paper's is a 50th-percentile man), and the population's reference."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -46,7 +49,7 @@ class LandscapeConfig:
     """The default worker's exhaustive landscape: the paper's grid (paper-code boundary, 3 mm)."""
 
     boundary: str = setting("paper-code", choices=BOUNDARIES)
-    step: float = setting(0.003, positive=True, unit="m")
+    step: float = setting(DEFAULT_STEP, positive=True, unit="m")
     gaze: str = setting("on", choices=GAZES)
     variants: LandscapeVariants = setting(LandscapeVariants())
 
@@ -66,7 +69,7 @@ class Target:
     name: str = setting()
     objective: str = setting("paper_postural", choices=(*OBJECTIVES, LEXICOGRAPHIC))
     goal: str = setting("minimum", choices=GOALS)
-    worker: str = setting("p50-male", choices=WORKERS)
+    worker: str = setting(DEFAULT_WORKER, choices=WORKERS)
     gaze: str | None = setting(None, choices=GAZES)
     grid: GridOverride = setting(GridOverride())
 
@@ -137,7 +140,7 @@ class PopulationConfig:
     size: int = setting(Workforce.size, lo=1)
     seed: int = setting(Workforce.seed, lo=0)
     female_share: float = setting(Workforce.female_share, lo=0, hi=1)
-    reference: str = setting("p50-male", choices=WORKERS)
+    reference: str = setting(DEFAULT_WORKER, choices=WORKERS)
     boundary: str = setting("paper-code", choices=BOUNDARIES)
     step: float = setting(0.01, positive=True, unit="m")
     bootstrap: int = setting(2000, lo=1)
@@ -236,7 +239,7 @@ class StudyConfig:
         """The study's task: the default box, with the landscape's gaze (or ``gaze``)."""
         return TaskSpec(gaze=gaze or self.landscape.gaze)
 
-    def evaluator(self, worker: str = "p50-male", gaze: str | None = None) -> Evaluator:
+    def evaluator(self, worker: str = DEFAULT_WORKER, gaze: str | None = None) -> Evaluator:
         """The study's evaluator of a named worker: the default model with the study's task."""
         return Evaluator(BodySpec.from_percentile(worker), self.task(gaze))
 
