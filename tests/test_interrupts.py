@@ -158,3 +158,20 @@ def test_clean_stop_restores_the_callers_handlers():
     with clean_stop():
         assert signal.getsignal(signal.SIGTERM) is not before
     assert signal.getsignal(signal.SIGTERM) is before
+
+
+def test_a_just_forked_worker_that_still_holds_the_handler_dies_at_sigterm():
+    """A pool may terminate a worker between its fork and its initialiser, while it still has
+    the parent's handler: it must die, not raise in the parent's place and live on (which would
+    leave the pool's terminate waiting for it)."""
+    with clean_stop():
+        pid = os.fork()
+        if pid == 0:  # the child: dies at SIGTERM, or exits 0 if the signal was swallowed
+            try:
+                time.sleep(30)
+            finally:
+                os._exit(0)
+        time.sleep(0.2)
+        os.kill(pid, signal.SIGTERM)
+        _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGTERM

@@ -67,7 +67,16 @@ _RECEIVED: list[int] = []
 in place of :class:`Stopped`, as Ray's waits do)."""
 
 
+_MAIN: list[int] = []
+"""The process that installed the handler: a pool's worker forked from it holds the handler too
+until its initialiser runs, and a pool may terminate it in that moment."""
+
+
 def _raise_stopped(signum, frame) -> None:
+    if _MAIN and os.getpid() != _MAIN[-1]:  # a just-forked worker: die as SIGTERM would
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+        return
     _RECEIVED.append(signum)
     raise Stopped()
 
@@ -77,6 +86,7 @@ def stop_on_signals() -> None:
     KeyboardInterrupt. Only the main thread can install handlers: elsewhere this does
     nothing."""
     with suppress(ValueError):  # not the main thread (e.g. a test runner's worker thread)
+        _MAIN.append(os.getpid())
         signal.signal(signal.SIGTERM, _raise_stopped)
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
