@@ -23,6 +23,9 @@ bands), found.csv (the best location each agent found), manifest.json.
 
 from __future__ import annotations
 
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pandas as pd
@@ -111,6 +114,25 @@ def duration(seconds: float) -> str:
     return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min"
 
 
+@contextmanager
+def ticking(bar: tqdm, every_s: float = 1.0) -> Iterator[None]:
+    """Redraw ``bar`` every ``every_s`` seconds while the block runs, so that its clock moves
+    while a long run (a DQN run takes most of a minute) holds every worker."""
+    stop = threading.Event()
+
+    def tick() -> None:
+        while not stop.wait(every_s):
+            bar.refresh()  # tqdm's own lock keeps this from crossing an update
+
+    clock = threading.Thread(target=tick, daemon=True)
+    clock.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        clock.join()
+
+
 def target_table(config: StudyConfig, found: dict[str, Landscape]) -> pd.DataFrame:
     """targets.csv: each target's landscape, objective, goal and cells."""
     rows = []
@@ -162,9 +184,11 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         # The bar counts estimated seconds of work, not runs: the runs differ 1,000-fold in
         # length and the longest go first, so a count of runs would promise hours at the start.
         cost = [job_seconds(job) for job in jobs]
-        with tqdm(total=round(sum(cost), 1), desc="learning", unit="s", smoothing=0,
-                  bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]") as bar, \
-                engine.executor() as executor:
+        # The pool forks before the bar's clock thread starts (a fork copies no threads).
+        with engine.executor() as executor, \
+                tqdm(total=round(sum(cost), 1), desc="learning", unit="s", smoothing=0,
+                     bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
+                     ) as bar, ticking(bar):
             bar.set_description_str(f"learning (0/{len(jobs)} runs)")
             for index, result in executor.map_unordered(run_job, jobs):
                 done.append(result)
