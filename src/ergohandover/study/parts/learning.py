@@ -110,8 +110,8 @@ def estimate_s(config: StudyConfig, workers: int) -> float:
 
 
 def duration(seconds: float) -> str:
-    """``42 s`` or ``19 min``: an estimate as a reader takes it in."""
-    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min"
+    """``42 s`` or ``18.5 min``: an estimate as a reader takes it in."""
+    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.1f} min"
 
 
 @contextmanager
