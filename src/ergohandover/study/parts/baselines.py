@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from tqdm import tqdm
 
 from ...errors import ConfigError
 from ...io.atomic import atomic_write, atomic_write_csv
@@ -81,7 +82,9 @@ def replayed(table: pd.DataFrame, paths: list[Path]) -> pd.DataFrame:
     """Each path file played back on the committed robot URDF in a client of its own: the
     deepest self-penetration [mm] and the largest joint step [rad] of every planned carry."""
     urdf = robot_urdf_file()
-    played = {path.stem: replay(pd.read_csv(path), urdf) for path in paths}
+    # Each replay loads the URDF and steps every pose (a few seconds a path): a bar says so.
+    played = {path.stem: replay(pd.read_csv(path), urdf)
+              for path in tqdm(paths, desc="replaying carries on the URDF", unit="path")}
     names = [f"start{i // 2 + 1}_{m}" for i, m in enumerate(table["method"])]
     table = table.copy()
     table["replay_penetration_mm"] = [

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
 from ..config import StudyConfig
@@ -33,6 +34,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
 
     def work(folder: Path) -> dict:
         base = config.evaluator()
+        print("  the default's optimum and conclusion on the study's grid")
         rows = [sensitivity_row(Variant("default", "default (study grid)"),
                                 default_landscape(config, engine), base, None)]
         chosen = variants(base)
@@ -43,7 +45,10 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         print(f"  {len(chosen)} variants on {grid.describe()}")
         found = landscapes(engine, evaluators, grid)
         reference = None
-        for variant, evaluator, landscape in zip(chosen, evaluators, found, strict=True):
+        # Each row scores the variant's optimum and the baselines' locations (about a second).
+        for variant, evaluator, landscape in tqdm(zip(chosen, evaluators, found, strict=True),
+                                                  total=len(chosen), unit="variant",
+                                                  desc="variants' optima and conclusions"):
             row = sensitivity_row(variant, landscape, evaluator, reference)
             if reference is None:  # the first variant is the default on this grid
                 reference = np.array([row["optimum_x"], row["optimum_y"], row["optimum_z"]])
