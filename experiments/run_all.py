@@ -2,7 +2,7 @@
 
 A part is finished when its results/<part>/manifest.json matches its configuration and the
 twin's code: a fresh clone reuses every committed part and only rebuilds the figures and
-tables (half a minute); --force recomputes everything (31 minutes on 2 cores from an empty
+tables (half a minute); --force recomputes everything (29 minutes on 2 cores from an empty
 landscape cache); an interrupted run resumes at the first unfinished part.
 
 Parts, in order:
