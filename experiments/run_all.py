@@ -45,9 +45,8 @@ from pathlib import Path
 from ergohandover.errors import ErgohandoverError
 from ergohandover.executor import clean_stop
 from ergohandover.study.parts import PARTS, part
-from ergohandover.study.parts.learning import duration
 from ergohandover.study.resume import is_done
-from ergohandover.study.script import add_study_arguments, fail, study_from_args
+from ergohandover.study.script import add_study_arguments, duration, fail, study_from_args
 
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent

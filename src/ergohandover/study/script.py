@@ -49,6 +49,11 @@ def study_from_args(args: argparse.Namespace, default: str = "default") -> tuple
     return config, engine
 
 
+def duration(seconds: float) -> str:
+    """``42 s`` or ``18.5 min``: a time or an estimate as a reader takes it in."""
+    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.1f} min"
+
+
 def fail(exc: ErgohandoverError) -> None:
     """One line on standard error and exit code 2."""
     print(f"{Path(sys.argv[0]).stem}: error: {exc}", file=sys.stderr)

@@ -44,6 +44,7 @@ from ..engines import Engine
 from ..learning_runs import RunJob, rollout_seed, run_job, run_seed, trace_table
 from ..learning_summary import comparisons, curves, found_locations, summary
 from ..resume import run_part
+from ..script import duration
 from . import landscape as landscape_part
 from .shared import grid_of, landscape
 
@@ -107,11 +108,6 @@ def job_seconds(job: RunJob) -> float:
 def estimate_s(config: StudyConfig, workers: int) -> float:
     """The part's rough wall time on ``workers`` processes [s] (its landscapes cached)."""
     return sum(job_seconds(j) for j in plan_jobs(config)) / max(1, workers)
-
-
-def duration(seconds: float) -> str:
-    """``42 s`` or ``18.5 min``: an estimate as a reader takes it in."""
-    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.1f} min"
 
 
 @contextmanager
