@@ -49,10 +49,11 @@ STUDY_DEFAULTS = {
     "episode_end": STUDY.learning.episode_end, "seed": STUDY.baselines.seed,
     "solver": STUDY_EVALUATOR.solver, "trunk_reference": STUDY_EVALUATOR.trunk_reference}
 """Each shared flag's default as the study has it (read here from the study, not the CLI)."""
-MODEL = {"evaluate", "sweep", "train", "baseline"}
+MODEL = {"evaluate", "robustness", "sweep", "train", "baseline"}
 SHARED_BY = {"boundary": {"sweep", "train", "baseline"}, "step": {"sweep", "train", "baseline"},
              "gaze": MODEL, "percentile": MODEL, "trunk_reference": MODEL,
-             "solver": {"evaluate", "sweep"}, "seed": {"train", "baseline"},
+             "solver": {"evaluate", "robustness", "sweep"},
+             "seed": {"train", "baseline", "robustness"},
              "objective": {"train"}, "episode_end": {"train"}}
 
 
@@ -89,11 +90,12 @@ def test_a_shared_flag_has_the_studys_default_in_every_command_and_its_help(dest
 
 @pytest.mark.parametrize("command", sorted(MODEL))
 def test_without_flags_a_command_models_the_studys_worker_task_and_grid(command):
-    required = {"evaluate": ["--points", "p.csv"], "train": ["--agent", "random"]}
+    required = {"evaluate": ["--points", "p.csv"], "robustness": ["--points", "-"],
+                "train": ["--agent", "random"]}
     args = build_parser().parse_args([command, *required.get(command, [])])
     evaluator = evaluator_from_args(args)
     assert evaluator == STUDY_EVALUATOR
-    if command == "evaluate":
+    if command in ("evaluate", "robustness"):
         return
     grid = grid_from_args(evaluator, args.boundary, args.step)
     assert grid == grid_of(STUDY_EVALUATOR, STUDY.landscape.boundary, STUDY.landscape.step)
@@ -190,8 +192,8 @@ def field_rule(cls, name: str) -> str:
     return rule(meta["lo"], meta["hi"], unit)
 
 
-OUTPUT = {"score": "file", "evaluate": "file", "baseline": "file", "sweep": "dir",
-          "train": "dir", "landscape-stats": "dir"}
+OUTPUT = {"score": "file", "evaluate": "file", "robustness": "file", "baseline": "file",
+          "sweep": "dir", "train": "dir", "landscape-stats": "dir"}
 BAD_FLAGS = [
     (["evaluate", "--points", "POINTS", "--stature", "-1.7"],
      f"--stature -1.7: outside {rule(*STATURE_RANGE_M, 'm')}"),
@@ -205,6 +207,11 @@ BAD_FLAGS = [
     (["score", "--input", "POSTURES", "--twist-from-deg", "45"],
      f"--twist-from-deg 45: outside {field_rule(ScoringSettings, 'twist_from_deg')}"),
     (["sweep", "--step", "-1"], "--step -1: must be > 0 m"),
+    (["robustness", "--postures", "POSTURES", "--angle-sd", "2", "-1"],
+     "--angle-sd -1: must be >= 0 deg"),
+    (["robustness", "--postures", "POSTURES", "--draws", "0"], "--draws 0: must be >= 1"),
+    (["robustness", "--postures", "POSTURES", "--stature", "1.8"],
+     "--stature cannot be used with --postures"),
     (["train", "--agent", "random", "--steps", "1e3"], "--steps 1e3: not a whole number"),
     (["train", "--agent", "random", "--time-cap", "2 min"],
      "--time-cap '2 min': not a number (expected > 0 s)"),
@@ -338,6 +345,9 @@ FILE_CASES = {
     "binary as a landscape": (["landscape-stats", "FILE"], binary_file,
                               "not a readable landscape"),
     "missing landscape": (["baseline", "--landscape", "FILE"], lambda p: p, "no such file"),
+    "missing postures": (["robustness", "--postures", "FILE"], lambda p: p, "no such file"),
+    "binary points for robustness": (["robustness", "--points", "FILE"], binary_file,
+                                     "is a binary file, not a CSV text file"),
 }
 
 

@@ -157,9 +157,30 @@ class ValidationConfig:
     optimum_of: str = setting("paper_postural", choices=OBJECTIVES)
 
 
-READS = {"baselines": ("learning",)}
+@dataclasses.dataclass(frozen=True)
+class RobustnessConfig:
+    draws: int = setting(4000, lo=1)
+    seed: int = setting(11, lo=0)
+    angle_sds: tuple[float, ...] = setting((0.0, 1.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
+    robust_sd: float = setting(5.0, positive=True, unit="deg")
+    structure: str = setting("independent", choices=("independent", "bilateral"))
+    placement_radii_cm: tuple[float, ...] = setting((0.57, 1.0, 2.0, 5.0), positive=True,
+                                                    unit="cm")
+    stride: int = setting(3, lo=1)
+    screen_draws: int = setting(128, lo=1)
+    keep: int = setting(32, lo=1)
+    radius: int = setting(2, lo=0)
+    worker_draws: int = setting(1000, lo=1)
+    worker_stride: int = setting(2, lo=1)
+    resamples: int = setting(1000, lo=1)
+    splits: int = setting(500, lo=1)
+
+
+READS = {"baselines": ("learning",),
+         "robustness": ("learning", "baselines", "participants", "population", "sensitivity")}
 """Parts that read another part's results besides the landscape's: the baselines carry the box
-to the location the learner found."""
+to the location the learner found; the robustness part reads the baselines' locations, the
+population's one-size locations and the landscapes of the participants, workers and variants."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -174,6 +195,7 @@ class StudyConfig:
     population: PopulationConfig = setting(PopulationConfig())
     sensitivity: SensitivityConfig = setting(SensitivityConfig())
     validation: ValidationConfig = setting(ValidationConfig())
+    robustness: RobustnessConfig = setting(RobustnessConfig())
 
     def __post_init__(self):
         learning = self.learning

@@ -1,0 +1,184 @@
+"""``ergohandover robustness``: scores under posture-measurement error, at box locations or for
+given postures."""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+
+import numpy as np
+import pandas as pd
+
+from ..io.atomic import atomic_write_csv
+from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
+from ..io.posture_csv import read_postures
+from ..robustness.margins import margin_table
+from ..robustness.posture_error import ANGLE_COLUMNS, SCORES, STRUCTURES, ErrorModel, monte_carlo
+from ..robustness.search import postures_at
+from . import defaults
+from .evaluate import LOCATION
+from .options import (
+    add_evaluator_arguments,
+    add_workers_argument,
+    evaluator_from_args,
+    model_flags_given,
+    writable,
+)
+from .values import BadValue, choice, existing_file, number, output_file, whole
+
+DESCRIPTION = f"""\
+Score postures as a site would measure them: every measured angle ({len(ANGLE_COLUMNS)} columns of
+the Posture CSV) carries zero-mean Gaussian error of SD --angle-sd degrees, independently or
+shared by the left and right side of each paired angle (--structure bilateral); flags, load and
+task factors are taken as known. Give --points (box locations x, y, z [m], worker frame: the
+twin is evaluated there, as by 'ergohandover evaluate') or --postures (a Posture CSV, as read by
+'ergohandover score'). One row per location, angle SD and score ({', '.join(SCORES)}): the
+nominal score, the mean of --draws measured scores and its standard error, the share of draws
+at or below the nominal score and the 5% and 95% quantiles. A location is named by the CSV's
+name or location column, else row<i>; an infeasible location (--points) has feasible 0 and empty
+statistics. Each SD draws from its own generator spawned from --seed."""
+STATS = ("nominal", "mean", "mean_se", "p_nominal_or_better", "q05", "q95", "draws")
+WHOLE = ("nominal", "q05", "q95", "draws")
+
+
+def input_file(text: str) -> str:
+    """A CSV file that exists, or ``-`` for standard input."""
+    return text if text == "-" else str(existing_file(text))
+
+
+def file_to_write(text: str) -> str:
+    """A CSV file to write (standard output is the table's)."""
+    if text == "-":
+        raise BadValue(text, "standard output is the main table's: name a file")
+    return output_file(text)
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "robustness", help="scores under posture-measurement error (Monte Carlo)",
+        description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--points", type=input_file, metavar="CSV",
+                        help="box locations: columns x, y, z [m], worker frame; - for stdin")
+    parser.add_argument("--postures", type=input_file, metavar="CSV",
+                        help="a Posture CSV to read instead of --points; - for stdin")
+    parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+", default=[5.0],
+                        metavar="DEG", help="the angle error's standard deviation [deg], >= 0; "
+                        "one or more values (default: 5)")
+    parser.add_argument("--structure", type=choice(STRUCTURES), default=STRUCTURES[0],
+                        metavar="|".join(STRUCTURES), help="independent errors, or one error "
+                        f"for both sides of each paired angle (default: {STRUCTURES[0]})")
+    parser.add_argument("--draws", type=whole(1), default=4000, metavar="N",
+                        help="measured copies of each posture, an integer >= 1 (default: 4000)")
+    parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="N",
+                        help=f"seed of the errors, an integer >= 0 (default: {defaults.SEED})")
+    parser.add_argument("--output", type=output_file, metavar="CSV",
+                        help="table to write (atomically; its folder is created if needed), "
+                        "or - for standard output (default: standard output)")
+    parser.add_argument("--flips", type=file_to_write, metavar="CSV",
+                        help="also write each item score's share of draws that differ from its "
+                        "nominal: columns location, angle_sd_deg, item, p_flip")
+    parser.add_argument("--margins", type=file_to_write, metavar="CSV",
+                        help="also write each angle's margin [deg] to a change of each score: "
+                        "columns location, angle, value, score, margin_deg")
+    add_evaluator_arguments(parser)
+    add_workers_argument(parser, "processes evaluating the twin at --points")
+    parser.set_defaults(run=run)
+
+
+def names_of(frame: pd.DataFrame) -> list[str]:
+    """Each row's name: its ``name`` (or ``location``) cell, else ``row<i>`` (1-based)."""
+    column = next((c for c in ("name", "location") if c in frame.columns), None)
+    cells = frame[column].str.strip() if column else pd.Series([""] * len(frame))
+    return [cell or f"row{i + 1}" for i, cell in enumerate(cells)]
+
+
+def points_from(frame: pd.DataFrame, what: str) -> np.ndarray:
+    """(N, 3) locations from a points CSV's cells, checked as ``evaluate`` checks them."""
+    require_columns(frame, ("x", "y", "z"), what)
+    points = np.column_stack(list(numeric_columns(frame, dict.fromkeys("xyz", LOCATION),
+                                                  what).values()))
+    bad = np.argwhere(~np.isfinite(points))
+    if bad.size:
+        row, col = bad[0]
+        raise InputError(f"{what}: row {row + 1}, column '{'xyz'[col]}': {points[row, col]:g} "
+                         f"is not allowed (expected {LOCATION})")
+    return points
+
+
+def read_input(args: argparse.Namespace):
+    """(locations: location[, x, y, z, feasible], the feasible ones' postures, feasible mask)."""
+    if (args.points is None) == (args.postures is None):
+        raise InputError("give exactly one of --points CSV or --postures CSV (got "
+                         f"{'neither' if args.points is None else 'both'})")
+    flag, source = ("--points", args.points) if args.postures is None else (
+        "--postures", args.postures)
+    what = "standard input" if source == "-" else f"{flag} {shlex.quote(source)}"
+    if args.postures is not None:
+        if model_flags_given(args):
+            raise InputError(f"{model_flags_given(args)[0]} cannot be used with --postures "
+                             "(the worker and task flags describe the twin at --points)")
+        frame, posture = read_postures(source, what)
+        return pd.DataFrame({"location": names_of(frame)}), posture, np.ones(posture.n, bool)
+    evaluator = evaluator_from_args(args)
+    frame = read_csv_text(source, what)
+    points = points_from(frame, what)
+    posture, feasible = postures_at(points, evaluator, args.workers)
+    locations = pd.DataFrame({"location": names_of(frame),
+                              **dict(zip("xyz", points.T, strict=True)),
+                              "feasible": feasible.astype(int)})
+    return locations, posture.take(np.flatnonzero(feasible)), feasible
+
+
+def ordered(parts: list[pd.DataFrame], locations: pd.DataFrame) -> pd.DataFrame:
+    """Rows of every part (each with a ``row`` column: the location's index), location-major
+    (the parts' order kept within a location), the location's columns first."""
+    frame = pd.concat(parts, ignore_index=True).sort_values("row", kind="stable")
+    where = locations.iloc[frame["row"].to_numpy()].reset_index(drop=True)
+    return pd.concat([where, frame.drop(columns="row").reset_index(drop=True)], axis=1)
+
+
+def run(args: argparse.Namespace) -> int:
+    locations, posture, feasible = read_input(args)
+    rows = np.flatnonzero(feasible)
+    names = locations["location"].to_numpy()
+    spawned = np.random.SeedSequence(args.seed).spawn(len(args.angle_sd))
+    every = pd.DataFrame({"row": np.repeat(np.arange(len(locations)), len(SCORES)),
+                          "score": np.tile(SCORES, len(locations))})
+    tables, flips = [], [pd.DataFrame(columns=["row", "angle_sd_deg", "item", "p_flip"])]
+    for sd, sequence in zip(args.angle_sd, spawned, strict=True):
+        found = pd.DataFrame(columns=["row", "score", *STATS])
+        if rows.size:
+            result = monte_carlo(posture, ErrorModel(sd, args.structure), args.draws,
+                                 np.random.default_rng(sequence))
+            found = result.table(rows).rename(columns={"location": "row"})
+            flips += [pd.DataFrame({"row": rows, "angle_sd_deg": sd, "item": item,
+                                    "p_flip": share}) for item, share in result.flips.items()]
+        table = every.merge(found, on=["row", "score"], how="left")
+        table.insert(1, "angle_sd_deg", sd)
+        table.insert(2, "structure", args.structure)
+        tables.append(table)
+    table = ordered(tables, locations)
+    table[list(WHOLE)] = table[list(WHOLE)].astype(float).astype("Int64")
+    outputs = {args.output: table}
+    if args.flips:
+        outputs[args.flips] = ordered(flips, locations[["location"]])
+    if args.margins:
+        outputs[args.margins] = (margin_table(posture, names[rows]) if rows.size else
+                                 pd.DataFrame(columns=["location", "angle", "value", "score",
+                                                       "margin_deg"]))
+    for path, frame in outputs.items():  # everything computed: now written, each atomically
+        if path not in (None, "-"):
+            atomic_write_csv(frame, writable(path))
+    if args.output in (None, "-"):
+        table.to_csv(sys.stdout, index=False)
+        return 0
+    paper = table[table["score"] == "paper_postural"]
+    for row in paper.itertuples(index=False):
+        head = f"{row.location} (angle SD {row.angle_sd_deg:g} deg): "
+        print(head + ("infeasible" if pd.isna(row.nominal) else
+                      f"paper_postural {row.nominal} -> mean {row.mean:.2f}, "
+                      f"P(<= {row.nominal}) {row.p_nominal_or_better:.3f}"), file=sys.stderr)
+    print(f"{len(locations)} locations x {len(args.angle_sd)} angle SDs, {args.draws} draws "
+          f"each -> {args.output}", file=sys.stderr)
+    return 0

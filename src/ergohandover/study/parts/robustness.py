@@ -1,0 +1,180 @@
+"""Study part `robustness`: does the recommendation survive being measured?
+
+The study's headline locations (the landscape's nominal optimum, the robust optimum under
+posture error, the location of largest margin, the learner's location, each start's shortest-
+distance location, the practice location and the population's one-size locations) are scored
+under posture-measurement error (Monte Carlo, every angle with Gaussian error of each SD), under
+the robot's placement error (the landscape's cells within a ball) and under the model variants of
+the sensitivity part and the workers of the population part (regret); the population's one-size
+locations are re-chosen inside the bootstrap and across split halves.
+
+Writes results/robustness/:
+  locations.csv      location x score x angle SD: nominal, mean, P(score <= nominal), q05, q95
+  flips.csv          location x angle SD x item score: how often the item differs from nominal
+  margins.csv        location x angle x score: the smallest move of that angle that changes it
+  placement.csv      location x radius x score: the score expected when the box lands off target
+  comparisons.csv    every headline comparison under posture error, model variants and workers
+  regret.csv, regret_summary.csv   the recommendation's regret per variant and worker
+  one_size.csv, penalty_regression.csv   the one-size choices without optimism; penalty on
+                     stature and sex together
+  personal.csv       each participant's and worker's nominal and robust location
+  expected_landscape.csv   the screened expected paper score in the plane x = 0 (for the figure)
+  manifest.json
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+from ...io.atomic import atomic_write_csv
+from ...landscape.stats import optimum
+from ...robustness.margins import margin_table
+from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
+from ...robustness.search import largest_margin, placement, postures_at, robust_optimum
+from ..config import RobustnessConfig, StudyConfig
+from ..engines import Engine
+from ..resume import run_part
+from ..robustness import PRACTICE, difference, practice_location, regret_summary
+from ..validation import elbow_height
+from . import baselines as baselines_part
+from . import participants as participants_part
+from . import population as population_part
+from . import sensitivity as sensitivity_part
+from .robustness_groups import (
+    cell_of,
+    participant_locations,
+    population_tables,
+    variant_tables,
+)
+from .shared import default_landscape
+
+ROBUST_SCORE = "paper_postural"
+"""The score whose robust optimum is sought (the paper's, the study's headline score)."""
+
+
+def headline_locations(results: Path, nominal: np.ndarray, robust: np.ndarray,
+                       margin: np.ndarray, practice: np.ndarray) -> pd.DataFrame:
+    """Every headline location of the default worker: name, x, y, z."""
+    rows = [("nominal optimum", *nominal), ("robust optimum", *robust),
+            ("largest margin", *margin)]
+    base = pd.read_csv(results / "baselines" / "baselines.csv")
+    learned = base[base["method"] == "optimised"].iloc[0]
+    rows.append(("learned", learned["x"], learned["y"], learned["z"]))
+    shortest = base[base["method"] == "shortest_distance"].reset_index(drop=True)
+    rows += [(f"shortest distance, start {k + 1}", r["x"], r["y"], r["z"])
+             for k, r in shortest.iterrows()]
+    rows.append(("practice", *practice))
+    one_size = pd.read_csv(results / "population" / "one_size.csv")
+    for _, r in one_size[one_size["objective"] == ROBUST_SCORE].iterrows():
+        if r["choice"] != "reference":  # the reference's optimum is the nominal optimum's cell
+            rows.append((f"one-size {r['choice']}", r["x"], r["y"], r["z"]))
+    return pd.DataFrame(rows, columns=["location", "x", "y", "z"])
+
+
+def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessConfig,
+                   rngs: list[np.random.Generator]) -> dict[str, pd.DataFrame]:
+    """The headline locations under posture error: their score distributions, item flips and
+    margins, and the comparisons between them (every SD of the configuration)."""
+    posture, feasible = postures_at(named[["x", "y", "z"]].to_numpy(float), config.evaluator())
+    if not feasible.all():
+        bad = named["location"][~feasible].tolist()
+        raise RuntimeError(f"the twin cannot take the box at {bad}")
+    tables, flips, compared = [], [], []
+    pairs = [(a, b) for a in ("nominal optimum", "robust optimum")
+             for b in named["location"] if b.startswith(("shortest", "practice"))]
+    index = {name: i for i, name in enumerate(named["location"])}
+    for sd, rng in tqdm(list(zip(part.angle_sds, rngs, strict=True)), desc="posture error",
+                        unit="SD"):
+        mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.draws, rng, keep=True)
+        table = mc.table(named["location"]).merge(named, on="location")
+        tables.append(table.assign(angle_sd_deg=sd, structure=part.structure))
+        for item, share in mc.flips.items():
+            flips.append(pd.DataFrame({"location": named["location"], "angle_sd_deg": sd,
+                                       "item": item, "p_flip": share}))
+        for a, b in pairs:
+            for score in SCORES:
+                compared.append({"comparison": f"{a} vs {b}", "a": a, "b": b, "score": score,
+                                 "perturbation": "posture error", "angle_sd_deg": sd,
+                                 "n": part.draws, **difference(mc.values[score][index[a]],
+                                                               mc.values[score][index[b]])})
+    columns = ["location", "x", "y", "z", "score", "angle_sd_deg", "structure", "nominal",
+               "mean", "mean_se", "p_nominal_or_better", "q05", "q95", "draws"]
+    return {"locations": pd.concat(tables, ignore_index=True)[columns],
+            "flips": pd.concat(flips, ignore_index=True),
+            "margins": margin_table(posture, named["location"]).merge(
+                named, on="location"),
+            "comparisons": pd.DataFrame(compared)}
+
+
+def placement_table(named: pd.DataFrame, landscape, radii_cm) -> pd.DataFrame:
+    """Each headline location's expected score when the robot delivers the box uniformly
+    within a ball of each radius (the landscape's cells)."""
+    rows = []
+    for _, loc in named.iterrows():
+        for radius in radii_cm:
+            for score in SCORES:
+                rows.append({"location": loc["location"], "radius_cm": radius, "score": score,
+                             **placement(landscape, loc[["x", "y", "z"]].to_numpy(float),
+                                         radius / 100, score)})
+    return pd.DataFrame(rows)
+
+
+def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
+    for reader in (baselines_part, participants_part, population_part, sensitivity_part):
+        reader.run(config, results, engine)  # reused when finished
+    part = config.robustness
+
+    def work(folder: Path) -> dict:
+        seeds = np.random.SeedSequence(part.seed).spawn(5)
+        search_seed = int(seeds[0].generate_state(1)[0])
+        evaluator = config.evaluator()
+        landscape = default_landscape(config, engine)
+        model = ErrorModel(part.robust_sd, part.structure)
+        print(f"  the robust optimum (expected {ROBUST_SCORE} at {part.robust_sd:g} deg) and "
+              "the location of largest margin")
+        nominal = optimum(landscape, ROBUST_SCORE)[1]
+        robust = robust_optimum(landscape, evaluator, model, ROBUST_SCORE, part.draws,
+                                search_seed, part.stride, part.screen_draws, part.keep,
+                                part.radius, engine.workers,
+                                include=[cell_of(landscape, nominal)])
+        margin = largest_margin(landscape, evaluator, ROBUST_SCORE, part.stride,
+                                workers=engine.workers)
+        practice = practice_location(evaluator, elbow_height(evaluator.body))
+        named = headline_locations(results, nominal, robust.location, margin.location,
+                                   practice)
+        tables = posture_tables(named, config, part, [np.random.default_rng(s) for s in
+                                                      seeds[1].spawn(len(part.angle_sds))])
+        tables["placement"] = placement_table(named, landscape, part.placement_radii_cm)
+        recommendations = named[named["location"].isin(("nominal optimum", "robust optimum"))]
+        variants = variant_tables(config, engine, named, recommendations,
+                                  np.random.default_rng(seeds[2]))
+        population = population_tables(config, engine, recommendations,
+                                       np.random.default_rng(seeds[3]), search_seed)
+        personal = participant_locations(config, engine, search_seed)
+        tables["comparisons"] = pd.concat([tables["comparisons"], variants["comparisons"],
+                                           population["comparisons"]], ignore_index=True)
+        tables["regret"] = pd.concat([variants["regret"], population["regret"]],
+                                     ignore_index=True)
+        tables["regret_summary"] = regret_summary(tables["regret"],
+                                                  np.random.default_rng(seeds[4]),
+                                                  part.resamples)
+        tables["one_size"] = population["one_size"]
+        tables["penalty_regression"] = population["regression"]
+        tables["personal"] = pd.concat([personal, population["personal"]], ignore_index=True)
+        screened = robust.screened
+        plane = np.isclose(screened["x"], screened["x"].abs().min()) | np.isclose(
+            screened["x"], -screened["x"].abs().min())
+        tables["expected_landscape"] = screened[plane].drop(columns="cell").rename(
+            columns={"value": "expected"})
+        for name, frame in tables.items():
+            atomic_write_csv(frame, folder / f"{name}.csv")
+        return {"robust_optimum": [round(float(v), 6) for v in robust.location],
+                "robust_expected": robust.value, "largest_margin_deg": margin.value,
+                "practice": PRACTICE, "locations": len(named)}
+
+    return run_part("robustness", results / "robustness", config.part_inputs("robustness"),
+                    work, seeds={"robustness": part.seed}, force=force, engine=engine)

@@ -1,0 +1,175 @@
+"""The robustness part's arithmetic: which of the study's comparisons survive posture-measurement
+error and a wrong model, the regret of the recommended location, and the population's one-size
+locations chosen without optimism.
+
+Definitions (the README and report use these words):
+- **survives** (posture error): the 95 % Monte Carlo interval of the difference of expected
+  scores (claimed better minus claimed worse) lies below zero; for a penalty (one-size less
+  personal), the bootstrap interval over workers lies above zero.
+- **regret** of a recommendation in a model variant or for a worker: its score there less that
+  variant's or worker's own optimum (the lowest of its grid's minimum and the recommendation's
+  own score, so regret is never negative).
+- **practice location**: what a practitioner would try first without a model, from two cited
+  rules of ergonomics (:data:`PRACTICE`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from ..twin.evaluate import Evaluator, evaluate
+from .population import CHOICES, one_size_cells
+
+PRACTICE_BELOW_ELBOW_M = 0.125
+"""Standing light work: hands 10-15 cm below the elbow, the middle of the range (Grandjean E
+(1979), Fitting the Task to the Man, Taylor & Francis; as quoted in Magnusson & Ortengren
+(1987), Applied Ergonomics 18(2):146-152, p. 148 — the validation part's source)."""
+PRACTICE_NEAREST_M = 0.25
+"""The hands no nearer than 25 cm in front of the midpoint between the ankles: the revised NIOSH
+lifting equation's horizontal multiplier is 1 at H = 25 cm and falls as 25/H beyond (Waters TR,
+Putz-Anderson V, Garg A, Fine LJ (1993), Revised NIOSH equation for the design and evaluation of
+manual lifting tasks, Ergonomics 36(7):749-776)."""
+PRACTICE_STEP_M = 0.01
+PRACTICE = (f"{PRACTICE_BELOW_ELBOW_M * 100:g} cm below the elbow (Grandjean 1979), at the "
+            f"nearest distance in front from {PRACTICE_NEAREST_M * 100:g} cm (NIOSH, Waters et "
+            f"al. 1993) at which the box clears the body, {PRACTICE_STEP_M * 100:g} cm steps")
+
+
+def practice_location(evaluator: Evaluator, elbow_height_m: float) -> np.ndarray:
+    """The practice location of a worker (:data:`PRACTICE`), worker frame [m]; NaNs when the
+    box clears the body nowhere within 40 cm further."""
+    depths = PRACTICE_NEAREST_M + PRACTICE_STEP_M * np.arange(41)
+    points = np.column_stack([np.zeros_like(depths),
+                              np.full_like(depths, elbow_height_m - PRACTICE_BELOW_ELBOW_M),
+                              depths])
+    feasible = evaluate(points, evaluator)["feasible"].to_numpy(bool)
+    return np.round(points[np.argmax(feasible)], 6) if feasible.any() else np.full(3, np.nan)
+
+
+def difference(a: np.ndarray, b: np.ndarray) -> dict:
+    """Two locations' measured scores (draws each, independent): the difference of their
+    expected scores with a 95 % Monte Carlo interval, and the chance that one measurement at
+    ``a`` comes out lower than (and no higher than) one at ``b``."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    diff = a.mean() - b.mean()
+    se = np.sqrt(a.var() / a.size + b.var() / b.size)
+    values = np.union1d(a, b)
+    pa = (a[:, None] == values).mean(axis=0)
+    below_b = np.searchsorted(np.sort(b), values, side="right") / b.size  # P(b <= v)
+    return {"difference": diff, "ci_low": diff - 1.96 * se, "ci_high": diff + 1.96 * se,
+            "p_lower": float((pa * (1 - below_b)).sum()),
+            "p_not_higher": float((pa * (1 - below_b + (b[:, None] == values).mean(axis=0)))
+                                  .sum()),
+            "survives": bool(diff + 1.96 * se < 0)}
+
+
+def bootstrap_mean(values: np.ndarray, rng: np.random.Generator,
+                   resamples: int) -> tuple[float, float, float]:
+    """Mean and 95 % percentile-bootstrap interval (NaN dropped)."""
+    values = values[~np.isnan(values)]
+    means = values[rng.integers(values.size, size=(resamples, values.size))].mean(axis=1)
+    return float(values.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means,
+                                                                                      0.975))
+
+
+def regret_rows(source: str, name: str, at: pd.DataFrame, own: dict[str, float],
+                recommendations: pd.DataFrame, scores) -> list[dict]:
+    """Rows of regret.csv for one variant or worker: ``at`` is its evaluation at the
+    recommendations (row per recommendation), ``own`` its grid minimum per score."""
+    rows = []
+    for (_, rec), (_, row) in zip(recommendations.iterrows(), at.iterrows(), strict=True):
+        for score in scores:
+            value = float(row[score]) if row["feasible"] else np.nan
+            best = min(own[score], value) if row["feasible"] else own[score]
+            rows.append({"source": source, "variant": name, "recommendation": rec["name"],
+                         "x": rec["x"], "y": rec["y"], "z": rec["z"], "score": score,
+                         "at_recommendation": value, "own_optimum": best,
+                         "regret": value - best})
+    return rows
+
+
+def regret_summary(regret: pd.DataFrame, rng: np.random.Generator,
+                   resamples: int) -> pd.DataFrame:
+    """Per source, recommendation and score: mean regret (bootstrap 95 %), worst, the share with
+    no regret, and how many variants or workers cannot take the box there."""
+    rows = []
+    for (source, rec, score), part in regret.groupby(["source", "recommendation", "score"],
+                                                     sort=False):
+        values = part["regret"].to_numpy(float)
+        mean, low, high = bootstrap_mean(values, rng, resamples)
+        taken = values[~np.isnan(values)]
+        rows.append({"source": source, "recommendation": rec, "score": score,
+                     "n": len(values), "infeasible": int(np.isnan(values).sum()),
+                     "mean_regret": mean, "ci_low": low, "ci_high": high,
+                     "max_regret": float(taken.max()), "share_no_regret": float(
+                         (taken == 0).mean())})
+    return pd.DataFrame(rows)
+
+
+def penalty_at(scores: np.ndarray, own: np.ndarray, cell: int) -> np.ndarray:
+    """(W,) each worker's penalty at a cell (NaN: infeasible for that worker)."""
+    return scores[:, cell] - own
+
+
+def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
+                     reference_cell: int, rng: np.random.Generator, resamples: int,
+                     splits: int) -> list[dict]:
+    """Each one-size choice's mean penalty three ways: in sample (chosen and scored on every
+    worker, as the population part reports it); re-chosen inside every bootstrap resample of
+    the workers; chosen on a random half and scored on the other half (``splits`` times)."""
+    w = scores.shape[0]
+    chosen = one_size_cells(scores, points, reference_cell)
+    boot = {c: np.empty(resamples) for c in CHOICES}
+    for b in range(resamples):
+        pick = rng.integers(w, size=w)
+        cells = one_size_cells(scores[pick], points, reference_cell)
+        for c in CHOICES:
+            boot[c][b] = np.nanmean(penalty_at(scores[pick], own[pick], cells[c]))
+    held_out = {c: np.empty(splits) for c in CHOICES}
+    in_half = {c: np.empty(splits) for c in CHOICES}
+    for s in range(splits):
+        order = rng.permutation(w)
+        train, test = order[: w // 2], order[w // 2:]
+        cells = one_size_cells(scores[train], points, reference_cell)
+        own_cells = one_size_cells(scores[test], points, reference_cell)
+        for c in CHOICES:
+            held_out[c][s] = np.nanmean(penalty_at(scores[test], own[test], cells[c]))
+            in_half[c][s] = np.nanmean(penalty_at(scores[test], own[test], own_cells[c]))
+    rows = []
+    for c in CHOICES:
+        penalty = penalty_at(scores, own, chosen[c])
+        rows.append({
+            "choice": c, "n": w, "in_sample_mean_penalty": float(np.nanmean(penalty)),
+            "rechosen_mean_penalty": float(boot[c].mean()),
+            "rechosen_ci_low": float(np.quantile(boot[c], 0.025)),
+            "rechosen_ci_high": float(np.quantile(boot[c], 0.975)),
+            "split_half_held_out": float(held_out[c].mean()),
+            "split_half_held_out_q025": float(np.quantile(held_out[c], 0.025)),
+            "split_half_held_out_q975": float(np.quantile(held_out[c], 0.975)),
+            "split_half_in_sample": float(in_half[c].mean()),
+            "optimism": float(held_out[c].mean() - in_half[c].mean()),
+            "resamples": resamples, "splits": splits})
+    return rows
+
+
+def penalty_regression(penalty: np.ndarray, stature_m: np.ndarray,
+                       male: np.ndarray) -> list[dict]:
+    """Ordinary least squares ``penalty ~ 1 + stature + male``: each term's coefficient, its
+    standard error, 95 % interval and p-value (t, n - 3 degrees of freedom)."""
+    taken = ~np.isnan(penalty)
+    y = penalty[taken]
+    x = np.column_stack([np.ones(taken.sum()), stature_m[taken], male[taken]])
+    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
+    dof = len(y) - x.shape[1]
+    sigma2 = ((y - x @ coef) ** 2).sum() / dof
+    se = np.sqrt(np.diag(sigma2 * np.linalg.pinv(x.T @ x)))
+    t = stats.t.ppf(0.975, dof)
+    rows = []
+    for name, b, s in zip(("intercept", "stature_m", "male"), coef, se, strict=True):
+        p = 2 * stats.t.sf(abs(b / s), dof) if s > 0 else np.nan
+        rows.append({"term": name, "coef": float(b), "se": float(s), "ci_low": float(b - t * s),
+                     "ci_high": float(b + t * s), "p": float(p), "n": len(y)})
+    return rows
+
