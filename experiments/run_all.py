@@ -64,7 +64,7 @@ ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
-                "validation": "fig_validation"}
+                "validation": "fig_validation", "robustness": "fig_robustness"}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 

@@ -17,6 +17,7 @@ sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 
 import learning_tables  # noqa: E402
 import readme_blocks  # noqa: E402
+import robustness_tables  # noqa: E402
 
 
 def bash_blocks(text: str) -> list[str]:
@@ -213,6 +214,10 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
          f"penalises {100 * best['share_penalised']:.0f} % of them",
          f"at the {percentile(reference)}th-percentile man's optimum women pay "
          f"{sex['female']:.2f}, men {sex['male']:.2f}"])
+
+    block = robustness_tables.blocks(RESULTS)["robustness-headline"]
+    rows["under error"] = ([], [f"<!-- robustness-headline -->{block}"
+                                f"<!-- /robustness-headline -->"])
     return rows
 
 
