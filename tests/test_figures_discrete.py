@@ -40,6 +40,7 @@ SCRIPTS = {
     "fig_score_distribution": {"score_distribution.png": 4},
     "fig_sensitivity": {"sensitivity.png": 0},
     "fig_validation": {"validation.png": 0},
+    "fig_robustness": {"robustness.png": 1},
 }
 # Texts that state a share as its column holds it (targets.csv fraction: of the grid;
 # stats.csv feasible_fraction: the feasible points' share of the grid).
