@@ -142,9 +142,14 @@ def largest_margin(landscape: Landscape, evaluator: Evaluator, score: str, strid
 
 def placement(landscape: Landscape, location: np.ndarray, radius_m: float,
               score: str) -> dict[str, float]:
-    """The score expected when the box arrives uniformly within ``radius_m`` of ``location``
-    (the grid's cells in that ball), and the share of the ball the twin cannot take the box at
-    (infeasible cells and cells beyond the grid)."""
+    """The score expected when the box arrives uniformly within ``radius_m`` of ``location``.
+
+    Returns:
+        ``cells`` in the ball (the grid's cells within the radius of the cell nearest
+        ``location``), ``mean`` score over its feasible cells, ``p_worse`` (the share of the
+        ball scoring worse than the commanded cell) and ``share_infeasible`` (cells the twin
+        cannot take the box at, or beyond the grid).
+    """
     grid = landscape.grid
     reach = int(np.floor(radius_m / grid.step + 1e-9))
     steps = np.arange(-reach, reach + 1)
