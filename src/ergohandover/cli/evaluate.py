@@ -29,6 +29,7 @@ posture, feasibility ({', '.join(REASONS)}) and every score are written to
 scores are empty where infeasible)."""
 
 LOCATION = "a finite coordinate in metres"
+POINTS_HELP = "box locations: columns x, y, z [m], worker frame; - for stdin"
 
 
 def add_parser(subparsers) -> None:
@@ -36,7 +37,7 @@ def add_parser(subparsers) -> None:
         "evaluate", help="posture and scores of the twin at box locations",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--points", required=True, metavar="CSV",
-                        help="box locations: columns x, y, z [m], worker frame; - for stdin")
+                        help=POINTS_HELP)
     parser.add_argument("--output", type=output_file, metavar="CSV",
                         help="Evaluation CSV to write (atomically; its folder is created if "
                         "needed), or - for standard output (default: "

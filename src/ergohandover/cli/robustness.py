@@ -17,7 +17,7 @@ from ..robustness.margins import margin_table
 from ..robustness.posture_error import ANGLE_COLUMNS, SCORES, STRUCTURES, ErrorModel, monte_carlo
 from ..robustness.search import postures_at
 from . import defaults
-from .evaluate import LOCATION
+from .evaluate import LOCATION, POINTS_HELP
 from .options import (
     add_evaluator_arguments,
     add_workers_argument,
@@ -59,7 +59,7 @@ def add_parser(subparsers) -> None:
         "robustness", help="scores under posture-measurement error (Monte Carlo)",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--points", type=input_file, metavar="CSV",
-                        help="box locations: columns x, y, z [m], worker frame; - for stdin")
+                        help=POINTS_HELP)
     parser.add_argument("--postures", type=input_file, metavar="CSV",
                         help="a Posture CSV to read instead of --points; - for stdin")
     parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+", default=[5.0],

@@ -77,6 +77,12 @@ class Grid:
         idx = np.stack(np.unravel_index(np.asarray(flat), self.shape), axis=-1)  # (n, 3)
         return self.boundary.lower + idx * self.step
 
+    def nearest_index(self, location) -> np.ndarray:
+        """(3,) integer index of the grid point nearest ``location`` (x, y, z) [m]; it lies
+        outside ``shape`` when the location is beyond the grid."""
+        return np.rint((np.asarray(location, float) - self.boundary.lower) / self.step
+                       ).astype(int)
+
     def describe(self) -> str:
         nx, ny, nz = self.shape
         return (f"grid {nx} x {ny} x {nz} = {self.size:,} points every {self.step * 1000:g} mm "

@@ -155,7 +155,7 @@ def placement(landscape: Landscape, location: np.ndarray, radius_m: float,
     steps = np.arange(-reach, reach + 1)
     offsets = np.stack(np.meshgrid(steps, steps, steps, indexing="ij"), axis=-1).reshape(-1, 3)
     offsets = offsets[np.linalg.norm(offsets * grid.step, axis=1) <= radius_m + 1e-9]
-    centre = np.rint((np.asarray(location, float) - grid.boundary.lower) / grid.step).astype(int)
+    centre = grid.nearest_index(location)
     cells = centre + offsets
     inside = np.all((cells >= 0) & (cells < np.array(grid.shape)), axis=1)
     flat = np.ravel_multi_index(tuple(cells[inside].T), grid.shape)

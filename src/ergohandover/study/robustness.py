@@ -67,7 +67,9 @@ def difference(a: np.ndarray, b: np.ndarray) -> dict:
 
 def bootstrap_mean(values: np.ndarray, rng: np.random.Generator,
                    resamples: int) -> tuple[float, float, float]:
-    """Mean and 95 % percentile-bootstrap interval (NaN dropped)."""
+    """Mean and 95 % percentile-bootstrap interval (NaN dropped). The same resampling as
+    :func:`.population.mean_interval`, whose quantiles sit at ``(1 - 0.95) / 2`` (0.025 plus a
+    float's last bit): the committed robustness results were made with these."""
     values = values[~np.isnan(values)]
     means = values[rng.integers(values.size, size=(resamples, values.size))].mean(axis=1)
     return float(values.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means,
@@ -77,13 +79,14 @@ def bootstrap_mean(values: np.ndarray, rng: np.random.Generator,
 def regret_rows(source: str, name: str, at: pd.DataFrame, own: dict[str, float],
                 recommendations: pd.DataFrame, scores) -> list[dict]:
     """Rows of regret.csv for one variant or worker: ``at`` is its evaluation at the
-    recommendations (row per recommendation), ``own`` its grid minimum per score."""
+    recommendations (``recommendations``: ``location, x, y, z``, a row each), ``own`` its grid
+    minimum per score."""
     rows = []
     for (_, rec), (_, row) in zip(recommendations.iterrows(), at.iterrows(), strict=True):
         for score in scores:
             value = float(row[score]) if row["feasible"] else np.nan
             best = min(own[score], value) if row["feasible"] else own[score]
-            rows.append({"source": source, "variant": name, "recommendation": rec["name"],
+            rows.append({"source": source, "variant": name, "recommendation": rec["location"],
                          "x": rec["x"], "y": rec["y"], "z": rec["z"], "score": score,
                          "at_recommendation": value, "own_optimum": best,
                          "regret": value - best})

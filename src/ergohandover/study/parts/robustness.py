@@ -166,8 +166,8 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         tables["penalty_regression"] = population["regression"]
         tables["personal"] = pd.concat([personal, population["personal"]], ignore_index=True)
         screened = robust.screened
-        plane = np.isclose(screened["x"], screened["x"].abs().min()) | np.isclose(
-            screened["x"], -screened["x"].abs().min())
+        middle = screened["x"].iloc[int(np.argmin(screened["x"].abs().to_numpy()))]
+        plane = screened["x"] == middle  # the screened plane nearest the body's midline
         tables["expected_landscape"] = screened[plane].drop(columns="cell").rename(
             columns={"value": "expected"})
         for name, frame in tables.items():

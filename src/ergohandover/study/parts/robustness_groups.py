@@ -42,8 +42,7 @@ def own_minimum(landscape: Landscape, score: str) -> float:
 def cell_of(landscape: Landscape, location: np.ndarray) -> int:
     """The flat index of a grid point."""
     grid = landscape.grid
-    index = np.rint((np.asarray(location) - grid.boundary.lower) / grid.step).astype(int)
-    return int(np.ravel_multi_index(tuple(index), grid.shape))
+    return int(np.ravel_multi_index(tuple(grid.nearest_index(location)), grid.shape))
 
 
 def paired(name: str, first: np.ndarray, second: np.ndarray, rng: np.random.Generator,
@@ -79,7 +78,7 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
         own = {s: own_minimum(landscape, s) for s in SCORES}
         mine = at[named["location"].isin(recommendations["location"]).to_numpy()]
         regret += regret_rows("sensitivity", variant.name, mine.reset_index(drop=True), own,
-                              recommendations.rename(columns={"location": "name"}), SCORES)
+                              recommendations, SCORES)
         scored.append(at)
     compared = []
     others = [b for b in named["location"] if b.startswith(("shortest", "practice"))]
@@ -170,7 +169,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         worker = str(table["worker"].iloc[w])
         own = {s: own_minimum(landscape, s) for s in SCORES}
         regret += regret_rows("population", worker, evaluate(recs, evaluator), own,
-                              recommendations.rename(columns={"location": "name"}), SCORES)
+                              recommendations, SCORES)
         pair = robust_pair(landscape, evaluator, config, part.worker_stride, seed)
         personal.append({"source": "population", "worker": worker, **pair})
         locations = np.stack([
