@@ -161,3 +161,24 @@ def test_bad_input_is_one_line_naming_the_flag(tmp_path, capsys, one_posture, ca
     assert captured.err.startswith("ergohandover robustness: error: ")
     assert message in captured.err and "Traceback" not in captured.err
     assert sorted(tmp_path.rglob("*")) == before, "a bad input left a file or folder behind"
+
+
+def test_baseline_reports_the_robust_optimum_beside_the_optimised_location(tmp_path, capsys):
+    out = tmp_path / "run" / "baselines.csv"
+    assert main(["baseline", "--start", "0.028,1.122,1.354", "--step", "0.04",
+                 "--robust-sd", "5", "--output", str(out)]) == 0
+    printed = capsys.readouterr().out
+    table = pd.read_csv(out)
+    robust = pd.read_csv(out.with_name("robust.csv"))
+    assert list(robust["location"].unique()) == ["nominal optimum", "robust optimum"]
+    assert (robust["angle_sd_deg"] == 5.0).all() and (robust["draws"] >= 2000).all()
+    optimised = table[table["method"] == "optimised"].iloc[0]
+    nominal = robust[(robust["location"] == "nominal optimum")
+                     & (robust["score"] == "paper_postural")].iloc[0]
+    # The nominal optimum is the table's optimised location, with its error-free score.
+    assert nominal[list("xyz")].to_numpy(float) == pytest.approx(
+        optimised[list("xyz")].to_numpy(float))
+    assert nominal["nominal"] == optimised["paper_postural"]
+    assert "under 5 deg of posture error" in printed and "robust optimum (" in printed
+    assert main(["baseline", "--robust-sd", "-1", "--output", str(tmp_path / "x.csv")]) == 2
+    assert "--robust-sd" in capsys.readouterr().err

@@ -13,6 +13,7 @@ from scipy import stats
 from ergohandover.ergonomics import POSTURE_COLUMNS, Posture, score_postures
 from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
+from ergohandover.landscape.stats import optimum
 from ergohandover.landscape.store import landscape_of
 from ergohandover.robustness.margins import margins
 from ergohandover.robustness.posture_error import (
@@ -23,8 +24,14 @@ from ergohandover.robustness.posture_error import (
     perturbed,
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
-from ergohandover.study.robustness import difference, penalty_regression, without_optimism
-from ergohandover.twin.evaluate import Evaluator
+from ergohandover.study.config import RobustnessConfig
+from ergohandover.study.robustness import (
+    difference,
+    penalty_regression,
+    recommendations,
+    without_optimism,
+)
+from ergohandover.twin.evaluate import Evaluator, evaluate
 from ergohandover.twin.task import Boundary
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -165,6 +172,24 @@ def test_the_robust_optimum_is_no_worse_in_expectation_than_the_nominal_one(smal
     assert robust <= nominal
 
 
+def test_the_recommendations_are_the_landscapes_optimum_and_a_robust_cell_of_it(
+        small_landscape):
+    evaluator, landscape = small_landscape
+    part = RobustnessConfig(draws=2000, stride=2, screen_draws=64, keep=4, radius=1)
+    table = recommendations(landscape, evaluator, part)
+    assert list(table["location"].unique()) == ["nominal optimum", "robust optimum"]
+    paper = table[table["score"] == "paper_postural"].set_index("location")
+    where = paper[list("xyz")].to_numpy(float)
+    np.testing.assert_allclose(where[0], optimum(landscape, "paper_postural")[1])
+    values = landscape.arrays["paper_postural"]
+    for name, point in zip(paper.index, where, strict=True):
+        # each location is a cell of the grid, and its error-free score is the landscape's
+        assert paper.loc[name, "nominal"] == values[landscape.grid.nearest_cell(point)]
+    assert (table["draws"] == 2000).all() and (table["angle_sd_deg"] == 5.0).all()
+    assert paper["mean"].min() > paper["nominal"].max()  # error only adds points here
+    assert table.equals(recommendations(landscape, evaluator, part))  # seeded by the config
+
+
 def test_placement_within_a_cell_is_the_cell_and_wider_balls_average_the_landscape(
         small_landscape):
     _, landscape = small_landscape
@@ -175,6 +200,22 @@ def test_placement_within_a_cell_is_the_cell_and_wider_balls_average_the_landsca
     assert tight["cells"] == 1 and tight["mean"] == cell and tight["p_worse"] == 0
     wide = placement(landscape, centre, 0.02, "reba")
     assert wide["cells"] == 7  # the centre and its six face neighbours at one step
+
+
+def test_placement_beyond_the_grid_asks_the_twin(small_landscape):
+    evaluator, landscape = small_landscape
+    grid = landscape.grid
+    corner = grid.boundary.lower.copy()  # a corner: three of its ball's cells are beyond
+    blind = placement(landscape, corner, 0.02, "paper_postural")
+    seen = placement(landscape, corner, 0.02, "paper_postural", evaluator)
+    assert blind["cells"] == seen["cells"] == 7
+    assert blind["share_infeasible"] >= 3 / 7  # three of the seven are beyond the grid
+    offsets = np.array([[0, 0, 0], [1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1],
+                        [0, 0, -1]])
+    found = evaluate(corner + offsets * grid.step, evaluator)
+    taken = found.loc[found["feasible"].astype(bool), "paper_postural"]
+    assert seen["share_infeasible"] == pytest.approx(1 - len(taken) / 7)
+    assert seen["mean"] == pytest.approx(taken.mean())
 
 
 def test_the_committed_robustness_results_answer_the_questions_asked():
@@ -191,3 +232,12 @@ def test_the_committed_robustness_results_answer_the_questions_asked():
     assert counts["sensitivity"] >= 20 and counts["population"] >= 40
     assert (regret["regret"].dropna() >= 0).all()
     assert set(regret["recommendation"]) == {"nominal optimum", "robust optimum"}
+    # The robot's carry to the practice location from each of the paper's five starts.
+    carries = pd.read_csv(folder / "practice_carries.csv")
+    practice = locations[locations["location"] == "practice"].iloc[0]
+    assert len(carries) == 5 and set(carries["method"]) == {"practice"}
+    np.testing.assert_allclose(carries[list("xyz")].to_numpy(float),
+                               np.tile(practice[list("xyz")].to_numpy(float), (5, 1)))
+    served = carries["robot_feasible"] == 1
+    assert (carries.loc[served, "clearance_m"] > 0).all()
+    assert (carries.loc[~served, "robot_reason"].str.len() > 0).all()

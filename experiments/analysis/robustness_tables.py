@@ -175,11 +175,31 @@ def placement_table(placement) -> list[str]:
     return lines
 
 
+def practice_carries(carries) -> str:
+    """Whether the robot serves the practice location from the paper's starts, in one line."""
+    served = carries[carries["robot_feasible"] == 1]
+    text = (f"The robot carries the box to the practice location from {len(served)} of "
+            f"{len(carries)} of the paper's starts")
+    if len(served):
+        text += (f" (paths {served['path_length_m'].min():.2f}–"
+                 f"{served['path_length_m'].max():.2f} m, clearance to the worker at least "
+                 f"{100 * served['clearance_m'].min():.1f} cm, planned in "
+                 f"{served['planning_s'].min():.1f}–{served['planning_s'].max():.1f} s; "
+                 "`practice_carries.csv`)")
+    missed = carries[carries["robot_feasible"] == 0]
+    if len(missed):
+        text += "; not from " + ", ".join(
+            f"({r.start_x:.3f}, {r.start_y:.3f}, {r.start_z:.3f}): {r.robot_reason}"
+            for r in missed.itertuples())
+    return text + "."
+
+
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/robustness/ only."""
-    locations, comparisons, summary, one_size, regression, placement = (
+    locations, comparisons, summary, one_size, regression, placement, carries = (
         _read(results, f"{n}.csv") for n in ("locations", "comparisons", "regret_summary",
-                                              "one_size", "penalty_regression", "placement"))
+                                              "one_size", "penalty_regression", "placement",
+                                              "practice_carries"))
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"robustness-headline": headline(locations, comparisons, summary, one_size),
             "robustness-claim": claim(locations, comparisons, summary, one_size, regression),
@@ -187,7 +207,8 @@ def blocks(results: Path) -> dict[str, str]:
             "robustness-comparisons": table(comparisons_table(comparisons)),
             "robustness-regret": table(regret_table(summary)),
             "robustness-one-size": table(one_size_table(one_size)),
-            "robustness-placement": table(placement_table(placement))}
+            "robustness-placement": table(placement_table(placement)),
+            "robustness-practice-carries": practice_carries(carries)}
 
 
 def main() -> None:

@@ -20,6 +20,8 @@ from ..landscape.store import landscape_of
 from ..scene.robot import RobotSpec
 from ..study.baseline_outputs import render, write_paths
 from ..study.baselines import PAPER_STARTS, compare, markdown_table
+from ..study.config import RobustnessConfig
+from ..study.robustness import recommendations
 from ..twin.evaluate import Evaluator
 from . import defaults
 from .options import (
@@ -35,7 +37,7 @@ from .options import (
 )
 from .parser import given
 from .refusals import model, read_landscape
-from .values import existing_file, field_value, output_file, point, whole
+from .values import existing_file, field_value, number, output_file, point, whole
 
 ROBOT_FLAGS = {"distance": "robot-distance", "drive_range": "robot-drive",
                "arm_spacing": "robot-spacing", "mount_height": "robot-height"}
@@ -50,8 +52,10 @@ the start to there, planned with OMPL clear of the robot itself, the box and the
 carry: planning time, path length, waypoints, clearance to the worker; or why it cannot be
 served). Writes a CSV, a markdown table beside the paper's numbers and manifest.json (into
 --output's folder, created if needed; default a new runs/baseline/<timestamp>/) and prints the
-table. The landscape comes from the landscape cache (swept into it when missing) unless
---landscape names a file."""
+table. With --robust-sd (on by default), also the robust optimum, the location of lowest
+expected paper score when every measured posture angle carries that much error, found as the
+study finds it, beside the optimum: both scored under that error (robust.csv). The landscape
+comes from the landscape cache (swept into it when missing) unless --landscape names a file."""
 
 
 def add_parser(subparsers) -> None:
@@ -88,6 +92,11 @@ def add_parser(subparsers) -> None:
         group.add_argument(f"--{flag}", dest=name, type=field_value(field),
                            default=field.default, metavar="M",
                            help=field_help(field, field.default))
+    parser.add_argument("--robust-sd", type=number(0, None, "deg"), default=defaults.ANGLE_SD,
+                        metavar="DEG", help="also find the robust optimum under this SD of "
+                        "error on every measured angle [deg] (the study's search and seed), and "
+                        "write both optima's scores under it to robust.csv beside --output; 0 "
+                        f"skips it (default: {defaults.ANGLE_SD:g})")
     add_workers_argument(parser, "processes for a sweep and for planning carries")
     parser.set_defaults(run=run)
 
@@ -114,6 +123,17 @@ def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
     return landscape, landscape.path
 
 
+def robust_lines(robust) -> str:
+    """The two optima under posture error, a line each (paper score, REBA, RULA)."""
+    sd = robust["angle_sd_deg"].iloc[0]
+    lines = [f"\nunder {sd:g} deg of posture error (score without error -> expected):"]
+    for name, rows in robust.groupby("location", sort=False):
+        first = rows.iloc[0]
+        scores = ", ".join(f"{r.score} {r.nominal} -> {r.mean:.2f}" for r in rows.itertuples())
+        lines.append(f"  {name} ({first.x:.3f}, {first.y:.3f}, {first.z:.3f}): {scores}")
+    return "\n".join(lines) + "\n"
+
+
 def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     starts = np.array(args.start) if args.start else PAPER_STARTS
@@ -122,10 +142,18 @@ def run(args: argparse.Namespace) -> int:
     landscape, source = obtain_landscape(args, evaluator)
     result = compare(starts, landscape, evaluator, robot, seed=args.seed,
                      workers=args.workers)
+    robust = None
+    if args.robust_sd > 0:
+        print(f"robust optimum at {args.robust_sd:g} deg of posture error", file=sys.stderr)
+        robust = recommendations(landscape, evaluator,
+                                 RobustnessConfig(robust_sd=args.robust_sd), args.workers)
     output = writable(args.output) if args.output else run_folder("baseline") / "baselines.csv"
     markdown = markdown_table(result.table)
     atomic_write_csv(result.table, output)
     md_path = atomic_write(output.with_suffix(".md"), lambda h: h.write(markdown))
+    written = [output, md_path]
+    if robust is not None:
+        written.append(atomic_write_csv(robust, output.with_name("robust.csv")))
     pictures = render(result, evaluator, robot, args.render) if args.render else []
     paths = write_paths(result, evaluator, robot, args.paths) if args.paths else []
     write_manifest(output, config={
@@ -133,7 +161,10 @@ def run(args: argparse.Namespace) -> int:
         "robot": dataclasses.asdict(robot), "landscape": str(source),
         "landscape_key": landscape.key, "grid": dataclasses.asdict(landscape.grid)},
         seeds={"planner": args.seed}, wall_time_s=time.perf_counter() - started,
-        extra={"outputs": [str(output), str(md_path), *map(str, pictures), *map(str, paths)]})
+        extra={"outputs": [*map(str, written), *map(str, pictures), *map(str, paths)],
+               "robust_sd_deg": args.robust_sd})
     print(markdown, end="")
-    print(f"wrote {output}, {md_path}", file=sys.stderr)
+    if robust is not None:
+        print(robust_lines(robust), end="")
+    print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
     return 0

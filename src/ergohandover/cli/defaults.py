@@ -23,6 +23,7 @@ from ..study.config import (
     BaselinesConfig,
     LandscapeConfig,
     LearningConfig,
+    RobustnessConfig,
     StudyConfig,
     Target,
 )
@@ -47,6 +48,9 @@ EPISODE_END: str = field_default(LearningConfig, "episode_end")
 SEED: int = field_default(BaselinesConfig, "seed")
 """The seed of one command run (the carry planner's, as the study's baselines use it; a learning
 run's own seed, which the study instead spawns per run from ``learning.seed``)."""
+ANGLE_SD: float = field_default(RobustnessConfig, "robust_sd")
+"""The posture error's SD [deg] of a robust search, and of ``robustness`` when none is given."""
+DRAWS: int = field_default(RobustnessConfig, "draws")
 SOLVER: str = field_default(Evaluator, "solver")
 TRUNK_REFERENCE: str = field_default(Evaluator, "trunk_reference")
 TEMPERATURE: str = field_default(QLearningConfig, "temperature")

@@ -62,14 +62,16 @@ def add_parser(subparsers) -> None:
                         help=POINTS_HELP)
     parser.add_argument("--postures", type=input_file, metavar="CSV",
                         help="a Posture CSV to read instead of --points; - for stdin")
-    parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+", default=[5.0],
-                        metavar="DEG", help="the angle error's standard deviation [deg], >= 0; "
-                        "one or more values (default: 5)")
+    parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+",
+                        default=[defaults.ANGLE_SD], metavar="DEG",
+                        help="the angle error's standard deviation [deg], >= 0; one or more "
+                        f"values (default: {defaults.ANGLE_SD:g})")
     parser.add_argument("--structure", type=choice(STRUCTURES), default=STRUCTURES[0],
                         metavar="|".join(STRUCTURES), help="independent errors, or one error "
                         f"for both sides of each paired angle (default: {STRUCTURES[0]})")
-    parser.add_argument("--draws", type=whole(1), default=4000, metavar="N",
-                        help="measured copies of each posture, an integer >= 1 (default: 4000)")
+    parser.add_argument("--draws", type=whole(1), default=defaults.DRAWS, metavar="N",
+                        help="measured copies of each posture, an integer >= 1 (default: "
+                        f"{defaults.DRAWS})")
     parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="N",
                         help=f"seed of the errors, an integer >= 0 (default: {defaults.SEED})")
     parser.add_argument("--output", type=output_file, metavar="CSV",

@@ -83,6 +83,11 @@ class Grid:
         return np.rint((np.asarray(location, float) - self.boundary.lower) / self.step
                        ).astype(int)
 
+    def nearest_cell(self, location) -> int:
+        """The flat index of the grid point nearest ``location`` (x, y, z) [m], which must lie
+        within the grid."""
+        return int(np.ravel_multi_index(tuple(self.nearest_index(location)), self.shape))
+
     def describe(self) -> str:
         nx, ny, nz = self.shape
         return (f"grid {nx} x {ny} x {nz} = {self.size:,} points every {self.step * 1000:g} mm "

@@ -140,30 +140,38 @@ def largest_margin(landscape: Landscape, evaluator: Evaluator, score: str, strid
     return Search(cell, grid.coordinates([cell])[0], float(margin[fine == cell][0]), screened)
 
 
-def placement(landscape: Landscape, location: np.ndarray, radius_m: float,
-              score: str) -> dict[str, float]:
+def placement(landscape: Landscape, location: np.ndarray, radius_m: float, score: str,
+              evaluator: Evaluator | None = None) -> dict[str, float]:
     """The score expected when the box arrives uniformly within ``radius_m`` of ``location``.
 
+    The ball is the grid's lattice within the radius of the lattice point nearest ``location``:
+    its cells are read from the landscape; those beyond the grid (a location at or past the
+    boundary) are evaluated by ``evaluator``'s twin, or counted as cells it cannot take the box
+    at when no evaluator is given.
+
     Returns:
-        ``cells`` in the ball (the grid's cells within the radius of the cell nearest
-        ``location``), ``mean`` score over its feasible cells, ``p_worse`` (the share of the
-        ball scoring worse than the commanded cell) and ``share_infeasible`` (cells the twin
-        cannot take the box at, or beyond the grid).
+        ``cells`` in the ball, ``mean`` score over its feasible cells, ``p_worse`` (the share of
+        the ball scoring worse than the commanded cell) and ``share_infeasible`` (cells the twin
+        cannot take the box at, or beyond the grid without an evaluator).
     """
     grid = landscape.grid
     reach = int(np.floor(radius_m / grid.step + 1e-9))
     steps = np.arange(-reach, reach + 1)
     offsets = np.stack(np.meshgrid(steps, steps, steps, indexing="ij"), axis=-1).reshape(-1, 3)
     offsets = offsets[np.linalg.norm(offsets * grid.step, axis=1) <= radius_m + 1e-9]
-    centre = grid.nearest_index(location)
-    cells = centre + offsets
+    cells = grid.nearest_index(location) + offsets
     inside = np.all((cells >= 0) & (cells < np.array(grid.shape)), axis=1)
     flat = np.ravel_multi_index(tuple(cells[inside].T), grid.shape)
-    feasible = landscape.feasible[flat]
-    values = landscape.arrays[score][flat][feasible].astype(float)
-    on_grid = bool(np.all((centre >= 0) & (centre < np.array(grid.shape))))
-    nominal = (float(landscape.arrays[score][np.ravel_multi_index(tuple(centre), grid.shape)])
-               if on_grid else np.nan)
-    return {"cells": len(offsets), "mean": float(values.mean()) if values.size else np.nan,
-            "p_worse": float((values > nominal).sum() / len(offsets)),
+    values = np.full(len(cells), np.nan)
+    feasible = np.zeros(len(cells), dtype=bool)
+    values[inside] = landscape.arrays[score][flat]
+    feasible[inside] = landscape.feasible[flat]
+    if evaluator is not None and not inside.all():
+        found = evaluate_arrays(grid.boundary.lower + cells[~inside] * grid.step, evaluator,
+                                columns=("feasible", score))
+        values[~inside], feasible[~inside] = found[score], found["feasible"].astype(bool)
+    nominal = values[np.flatnonzero(~offsets.any(axis=1))[0]]  # the commanded cell's
+    taken = values[feasible]
+    return {"cells": len(offsets), "mean": float(taken.mean()) if taken.size else np.nan,
+            "p_worse": float((taken > nominal).sum() / len(offsets)),
             "share_infeasible": 1.0 - feasible.sum() / len(offsets)}

@@ -19,8 +19,16 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from ..landscape.cache import Landscape
+from ..landscape.stats import optimum
+from ..robustness.posture_error import ErrorModel, expected_scores, monte_carlo
+from ..robustness.search import Search, postures_at, robust_optimum
 from ..twin.evaluate import Evaluator, evaluate
+from .config import RobustnessConfig
 from .population import CHOICES, one_size_cells
+
+ROBUST_SCORE = "paper_postural"
+"""The score whose robust optimum is sought (the paper's, the study's headline score)."""
 
 PRACTICE_BELOW_ELBOW_M = 0.125
 """Standing light work: hands 10-15 cm below the elbow, the middle of the range (Grandjean E
@@ -46,6 +54,71 @@ def practice_location(evaluator: Evaluator, elbow_height_m: float) -> np.ndarray
                               depths])
     feasible = evaluate(points, evaluator)["feasible"].to_numpy(bool)
     return np.round(points[np.argmax(feasible)], 6) if feasible.any() else np.full(3, np.nan)
+
+
+def search_seed(part: RobustnessConfig) -> int:
+    """The errors' seed of every robust search of the study (the first of the part's seeds):
+    ``ergohandover baseline`` uses it too, so that it finds the study's robust optimum."""
+    return int(np.random.SeedSequence(part.seed).spawn(5)[0].generate_state(1)[0])
+
+
+def own_minimum(landscape: Landscape, score: str) -> float:
+    """The landscape's minimum of ``score`` over its feasible cells."""
+    return float(landscape.arrays[score][landscape.feasible].min())
+
+
+def robust_recommendation(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
+                          seed: int, draws: int, stride: int, keep: int, radius: int,
+                          workers: int = 1) -> tuple[np.ndarray, Search]:
+    """A worker's nominal optimum of :data:`ROBUST_SCORE` (the landscape's) and robust optimum
+    at ``part.robust_sd`` of posture error, searched around the nominal one too (so that it is
+    never worse in expectation); the search's settings as in :func:`robust_optimum`."""
+    nominal = optimum(landscape, ROBUST_SCORE)[1]
+    robust = robust_optimum(landscape, evaluator, ErrorModel(part.robust_sd, part.structure),
+                            ROBUST_SCORE, draws, seed, stride, part.screen_draws, keep,
+                            radius, workers, include=[landscape.grid.nearest_cell(nominal)])
+    return nominal, robust
+
+
+def recommendations(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
+                    workers: int = 1) -> pd.DataFrame:
+    """The nominal and the robust optimum as the study finds them (its search, its seed), each
+    scored under ``part.robust_sd`` of posture error: columns ``location`` (``nominal
+    optimum``, ``robust optimum``), ``x, y, z, score, angle_sd_deg, nominal, mean,
+    p_nominal_or_better, q05, q95, draws``. Raises when the twin cannot take the box there."""
+    seed = search_seed(part)
+    nominal, robust = robust_recommendation(landscape, evaluator, part, seed, part.draws,
+                                            part.stride, part.keep, part.radius, workers)
+    where = pd.DataFrame(np.stack([nominal, robust.location]), columns=list("xyz"))
+    where.insert(0, "location", ["nominal optimum", "robust optimum"])
+    posture, feasible = postures_at(where[list("xyz")].to_numpy(), evaluator)
+    if not feasible.all():
+        raise RuntimeError(f"the twin cannot take the box at {where[~feasible]}")
+    found = monte_carlo(posture, ErrorModel(part.robust_sd, part.structure), part.draws,
+                        np.random.default_rng(seed)).table(where["location"])
+    table = where.merge(found, on="location").assign(angle_sd_deg=part.robust_sd)
+    return table[["location", "x", "y", "z", "score", "angle_sd_deg", "nominal", "mean",
+                  "p_nominal_or_better", "q05", "q95", "draws"]]
+
+
+def robust_pair(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
+                stride: int, seed: int) -> dict:
+    """A worker's nominal and robust locations (a quick search: ``part.worker_draws``, the 8
+    best screened cells, 1 cell around), with both expected scores under the robust SD
+    measured with the same errors: a row of personal.csv."""
+    nominal, robust = robust_recommendation(landscape, evaluator, part, seed,
+                                            part.worker_draws, stride, keep=8, radius=1)
+    posture, _ = postures_at(np.stack([nominal, robust.location]), evaluator)
+    expected = expected_scores(posture, ErrorModel(part.robust_sd, part.structure),
+                               part.worker_draws, seed)
+    robust_score = landscape.arrays[ROBUST_SCORE][landscape.grid.nearest_cell(robust.location)]
+    return {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
+            "nominal_score": own_minimum(landscape, ROBUST_SCORE),
+            "nominal_expected": expected[0],
+            **{f"robust_{a}": round(float(v), 6)
+               for a, v in zip("xyz", robust.location, strict=True)},
+            "robust_score": int(robust_score), "robust_expected": expected[1],
+            "angle_sd_deg": part.robust_sd, "draws": part.worker_draws}
 
 
 def difference(a: np.ndarray, b: np.ndarray) -> dict:

@@ -4,9 +4,10 @@ The study's headline locations (the landscape's nominal optimum, the robust opti
 posture error, the location of largest margin, the learner's location, each start's shortest-
 distance location, the practice location and the population's one-size locations) are scored
 under posture-measurement error (Monte Carlo, every angle with Gaussian error of each SD), under
-the robot's placement error (the landscape's cells within a ball) and under the model variants of
-the sensitivity part and the workers of the population part (regret); the population's one-size
-locations are re-chosen inside the bootstrap and across split halves.
+the robot's placement error (the landscape's cells within a ball, the twin's beyond it) and
+under the model variants of the sensitivity part and the workers of the population part
+(regret); the population's one-size locations are re-chosen inside the bootstrap and across
+split halves; the robot carries the box to the practice location from the paper's starts.
 
 Writes results/robustness/:
   locations.csv      location x score x angle SD: nominal, mean, P(score <= nominal), q05, q95
@@ -18,6 +19,8 @@ Writes results/robustness/:
   one_size.csv, penalty_regression.csv   the one-size choices without optimism; penalty on
                      stature and sex together
   personal.csv       each participant's and worker's nominal and robust location
+  practice_carries.csv   the robot's carry of the box to the practice location from each of the
+                     paper's starts (the baselines' columns)
   expected_landscape.csv   the screened expected paper score in the plane x = 0 (for the figure)
   manifest.json
 """
@@ -31,29 +34,30 @@ import pandas as pd
 from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
-from ...landscape.stats import optimum
 from ...robustness.margins import margin_table
 from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
-from ...robustness.search import largest_margin, placement, postures_at, robust_optimum
+from ...robustness.search import largest_margin, placement, postures_at
+from ...scene.robot import RobotSpec
+from ..baselines import PAPER_STARTS, compare
 from ..config import RobustnessConfig, StudyConfig
 from ..engines import Engine
 from ..resume import run_part
-from ..robustness import PRACTICE, difference, practice_location, regret_summary
+from ..robustness import (
+    PRACTICE,
+    ROBUST_SCORE,
+    difference,
+    practice_location,
+    regret_summary,
+    robust_recommendation,
+    search_seed,
+)
 from ..validation import elbow_height
 from . import baselines as baselines_part
 from . import participants as participants_part
 from . import population as population_part
 from . import sensitivity as sensitivity_part
-from .robustness_groups import (
-    cell_of,
-    participant_locations,
-    population_tables,
-    variant_tables,
-)
+from .robustness_groups import participant_locations, population_tables, variant_tables
 from .shared import default_landscape
-
-ROBUST_SCORE = "paper_postural"
-"""The score whose robust optimum is sought (the paper's, the study's headline score)."""
 
 
 def headline_locations(results: Path, nominal: np.ndarray, robust: np.ndarray,
@@ -110,17 +114,30 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
             "comparisons": pd.DataFrame(compared)}
 
 
-def placement_table(named: pd.DataFrame, landscape, radii_cm) -> pd.DataFrame:
+def placement_table(named: pd.DataFrame, landscape, evaluator, radii_cm) -> pd.DataFrame:
     """Each headline location's expected score when the robot delivers the box uniformly
-    within a ball of each radius (the landscape's cells)."""
+    within a ball of each radius (the landscape's cells; the twin's beyond the grid)."""
     rows = []
     for _, loc in named.iterrows():
         for radius in radii_cm:
             for score in SCORES:
                 rows.append({"location": loc["location"], "radius_cm": radius, "score": score,
                              **placement(landscape, loc[["x", "y", "z"]].to_numpy(float),
-                                         radius / 100, score)})
+                                         radius / 100, score, evaluator)})
     return pd.DataFrame(rows)
+
+
+def practice_carries(config: StudyConfig, engine: Engine, landscape,
+                     practice: np.ndarray) -> pd.DataFrame:
+    """The robot's carry of the box to the practice location from each of the paper's starts,
+    planned as the baselines' carries are (their seed and robot)."""
+    print("  the robot's carries to the practice location")
+    table = compare(PAPER_STARTS, landscape, config.evaluator(), RobotSpec(),
+                    seed=config.baselines.seed, methods=("optimised",), location=practice,
+                    executor=engine.executor(isolated=True)).table
+    # compare() names the given location "optimised" and puts the paper's optimised numbers
+    # beside it: here it is the practice location, which the paper has no number for.
+    return table.assign(method="practice").drop(columns="paper_postural_paper")
 
 
 def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
@@ -130,17 +147,14 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
 
     def work(folder: Path) -> dict:
         seeds = np.random.SeedSequence(part.seed).spawn(5)
-        search_seed = int(seeds[0].generate_state(1)[0])
+        seed = search_seed(part)  # seeds[0]'s
         evaluator = config.evaluator()
         landscape = default_landscape(config, engine)
-        model = ErrorModel(part.robust_sd, part.structure)
         print(f"  the robust optimum (expected {ROBUST_SCORE} at {part.robust_sd:g} deg) and "
               "the location of largest margin")
-        nominal = optimum(landscape, ROBUST_SCORE)[1]
-        robust = robust_optimum(landscape, evaluator, model, ROBUST_SCORE, part.draws,
-                                search_seed, part.stride, part.screen_draws, part.keep,
-                                part.radius, engine.workers,
-                                include=[cell_of(landscape, nominal)])
+        nominal, robust = robust_recommendation(landscape, evaluator, part, seed, part.draws,
+                                                part.stride, part.keep, part.radius,
+                                                engine.workers)
         margin = largest_margin(landscape, evaluator, ROBUST_SCORE, part.stride,
                                 workers=engine.workers)
         practice = practice_location(evaluator, elbow_height(evaluator.body))
@@ -148,13 +162,15 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                                    practice)
         tables = posture_tables(named, config, part, [np.random.default_rng(s) for s in
                                                       seeds[1].spawn(len(part.angle_sds))])
-        tables["placement"] = placement_table(named, landscape, part.placement_radii_cm)
+        tables["placement"] = placement_table(named, landscape, evaluator,
+                                              part.placement_radii_cm)
+        tables["practice_carries"] = practice_carries(config, engine, landscape, practice)
         recommendations = named[named["location"].isin(("nominal optimum", "robust optimum"))]
         variants = variant_tables(config, engine, named, recommendations,
                                   np.random.default_rng(seeds[2]))
         population = population_tables(config, engine, recommendations,
-                                       np.random.default_rng(seeds[3]), search_seed)
-        personal = participant_locations(config, engine, search_seed)
+                                       np.random.default_rng(seeds[3]), seed)
+        personal = participant_locations(config, engine, seed)
         tables["comparisons"] = pd.concat([tables["comparisons"], variants["comparisons"],
                                            population["comparisons"]], ignore_index=True)
         tables["regret"] = pd.concat([variants["regret"], population["regret"]],

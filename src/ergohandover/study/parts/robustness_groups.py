@@ -8,10 +8,9 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from ...landscape.cache import Landscape
 from ...landscape.stats import optimum
-from ...robustness.posture_error import SCORES, ErrorModel, expected_scores, monte_carlo
-from ...robustness.search import postures_at, robust_optimum
+from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
+from ...robustness.search import postures_at
 from ...twin.evaluate import Evaluator, evaluate
 from ..config import StudyConfig
 from ..engines import Engine
@@ -19,9 +18,11 @@ from ..participants import DEFAULT_WORKER
 from ..population import CHOICES, one_size_cells
 from ..robustness import (
     bootstrap_mean,
+    own_minimum,
     penalty_regression,
     practice_location,
     regret_rows,
+    robust_pair,
     without_optimism,
 )
 from ..sensitivity import variants
@@ -32,17 +33,6 @@ from .shared import default_landscape, grid_of, landscapes
 
 POPULATION_SDS = (0.0, 2.0, 5.0)
 """The posture-error SDs of the one-size against personal comparison [deg]."""
-
-
-def own_minimum(landscape: Landscape, score: str) -> float:
-    """The landscape's minimum of ``score`` over its feasible cells."""
-    return float(landscape.arrays[score][landscape.feasible].min())
-
-
-def cell_of(landscape: Landscape, location: np.ndarray) -> int:
-    """The flat index of a grid point."""
-    grid = landscape.grid
-    return int(np.ravel_multi_index(tuple(grid.nearest_index(location)), grid.shape))
 
 
 def paired(name: str, first: np.ndarray, second: np.ndarray, rng: np.random.Generator,
@@ -94,28 +84,6 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
     return {"regret": pd.DataFrame(regret), "comparisons": pd.DataFrame(compared)}
 
 
-def robust_pair(landscape: Landscape, evaluator: Evaluator, config: StudyConfig, stride: int,
-                seed: int) -> dict:
-    """A worker's nominal and robust paper-score locations, with both expected scores under
-    the robust SD measured with the same errors."""
-    part = config.robustness
-    model = ErrorModel(part.robust_sd, part.structure)
-    nominal = optimum(landscape, "paper_postural")[1]
-    robust = robust_optimum(landscape, evaluator, model, "paper_postural", part.worker_draws,
-                            seed, stride, part.screen_draws, keep=8, radius=1,
-                            include=[cell_of(landscape, nominal)])
-    posture, _ = postures_at(np.stack([nominal, robust.location]), evaluator)
-    expected = expected_scores(posture, model, part.worker_draws, seed)
-    nominal_score = landscape.arrays["paper_postural"][cell_of(landscape, robust.location)]
-    return {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
-            "nominal_score": own_minimum(landscape, "paper_postural"),
-            "nominal_expected": expected[0],
-            **{f"robust_{a}": round(float(v), 6)
-               for a, v in zip("xyz", robust.location, strict=True)},
-            "robust_score": int(nominal_score), "robust_expected": expected[1],
-            "angle_sd_deg": part.robust_sd, "draws": part.worker_draws}
-
-
 def participant_locations(config: StudyConfig, engine: Engine, seed: int) -> pd.DataFrame:
     """Each participant's nominal and robust location (the default worker on the landscape
     part's grid, the others on the participants part's)."""
@@ -129,7 +97,7 @@ def participant_locations(config: StudyConfig, engine: Engine, seed: int) -> pd.
             grid = grid_of(evaluator, config.landscape.boundary, config.participants.step)
             landscape, stride = landscapes(engine, [evaluator], grid)[0], 1
         rows.append({"source": "participants", "worker": name,
-                     **robust_pair(landscape, evaluator, config, stride, seed)})
+                     **robust_pair(landscape, evaluator, config.robustness, stride, seed)})
     return pd.DataFrame(rows)
 
 
@@ -152,7 +120,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         scores = np.stack([found[w].arrays[objective] for w in sampled]).astype(float)
         scores[scores < 0] = np.nan
         own = np.array([own_minimum(found[w], objective) for w in sampled])
-        ref_cell = cell_of(reference, optimum(reference, objective)[1])
+        ref_cell = reference.grid.nearest_cell(optimum(reference, objective)[1])
         chosen[objective] = one_size_cells(scores, points, ref_cell)
         one_size += [{"objective": objective, **row} for row in without_optimism(
             scores, own, points, ref_cell, rng, part.resamples, part.splits)]
@@ -170,7 +138,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         own = {s: own_minimum(landscape, s) for s in SCORES}
         regret += regret_rows("population", worker, evaluate(recs, evaluator), own,
                               recommendations, SCORES)
-        pair = robust_pair(landscape, evaluator, config, part.worker_stride, seed)
+        pair = robust_pair(landscape, evaluator, part, part.worker_stride, seed)
         personal.append({"source": "population", "worker": worker, **pair})
         locations = np.stack([
             [pair["nominal_x"], pair["nominal_y"], pair["nominal_z"]],
