@@ -57,7 +57,7 @@ STEPS = (*PARTS, "figures")
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
                           "participants": 48, "population": 174, "sensitivity": 101,
-                          "validation": 1, "robustness": 413, "figures": 26},
+                          "validation": 1, "robustness": 426, "figures": 26},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 5, "figures": 22}}
