@@ -18,15 +18,18 @@ from ..io.manifest import write_manifest
 from ..landscape.cache import Landscape, landscape_key
 from ..landscape.store import landscape_of
 from ..scene.robot import RobotSpec
+from ..sim import require_display
 from ..study.baseline_outputs import render, write_paths
 from ..study.baselines import PAPER_STARTS, compare, markdown_table
 from ..study.config import RobustnessConfig
 from ..study.robustness import recommendations
 from ..twin.evaluate import Evaluator
 from . import defaults
+from .evaluate import show_in_window
 from .options import (
     add_evaluator_arguments,
     add_grid_arguments,
+    add_gui_argument,
     add_output_folder_argument,
     add_workers_argument,
     evaluator_from_args,
@@ -97,6 +100,9 @@ def add_parser(subparsers) -> None:
                         "error on every measured angle [deg] (the study's search and seed), and "
                         "write both optima's scores under it to robust.csv beside --output; 0 "
                         f"skips it (default: {defaults.ANGLE_SD:g})")
+    add_gui_argument(parser, "the first start's optimised location: the worker in its solved "
+                     "posture holding the box there, the robot at the end of its carry (or "
+                     "holding it there, if the carry was not planned)")
     add_workers_argument(parser, "processes for a sweep and for planning carries")
     parser.set_defaults(run=run)
 
@@ -134,7 +140,23 @@ def robust_lines(robust) -> str:
     return "\n".join(lines) + "\n"
 
 
+def show_first_optimum(result, evaluator: Evaluator, robot: RobotSpec) -> None:
+    """PyBullet's window at the first start's optimised location (:func:`show_in_window`),
+    the robot where its carry ended (else its first hold there)."""
+    i = result.table["method"].tolist().index("optimised")
+    row, plan = result.table.iloc[i], result.plans[i]
+    location = row[["x", "y", "z"]].to_numpy(float)
+    posture = np.asarray(result.postures[i].q)
+    if not plan.ok:
+        show_in_window(evaluator, location, posture, robot)
+        return
+    end = plan.waypoints[-1]
+    show_in_window(evaluator, location, posture, robot, end.q, end.lift)
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.gui:  # before any work: without a display nothing is swept, computed or written
+        require_display("--gui")
     started = time.perf_counter()
     starts = np.array(args.start) if args.start else PAPER_STARTS
     robot = model(RobotSpec, **{name: getattr(args, name) for name in ROBOT_FLAGS})
@@ -167,4 +189,6 @@ def run(args: argparse.Namespace) -> int:
     if robust is not None:
         print(robust_lines(robust), end="")
     print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
+    if args.gui:
+        show_first_optimum(result, evaluator, robot)
     return 0

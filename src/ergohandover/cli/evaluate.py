@@ -11,9 +11,18 @@ from tqdm import tqdm
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
 from ..scene.render import render_points
-from ..twin.evaluate import EVALUATION_COLUMNS, REASONS, evaluate
+from ..sim import require_display
+from ..twin.evaluate import (
+    EVALUATION_COLUMNS,
+    REASONS,
+    Evaluator,
+    evaluate,
+    joint_angles,
+    posture_solver,
+)
 from .options import (
     add_evaluator_arguments,
+    add_gui_argument,
     add_workers_argument,
     evaluator_from_args,
     run_folder,
@@ -45,6 +54,8 @@ def add_parser(subparsers) -> None:
     add_evaluator_arguments(parser)
     parser.add_argument("--render", metavar="DIR", type=output_folder,
                         help="also write one PNG per point into DIR (created if needed)")
+    add_gui_argument(parser, "the first point: the worker in its solved posture holding the box "
+                     "there, the robot holding it too")
     add_workers_argument(parser, "processes to use")
     parser.set_defaults(run=run)
 
@@ -64,13 +75,37 @@ def read_points(source: str) -> np.ndarray:
     return points
 
 
+def show_in_window(evaluator: Evaluator, location: np.ndarray, q: np.ndarray, robot=None,
+                   arms: dict[str, np.ndarray] | None = None, lift: float = 0.0) -> None:
+    """PyBullet's own window showing the worker in posture ``q`` [rad] holding the box at
+    ``location`` (worker frame [m]) and the robot holding it: with ``arms`` [rad] at ``lift``
+    [m] (a carry's last pose), else its first hold there; ``robot`` is where the robot stands
+    (default :class:`~ergohandover.scene.robot.RobotSpec`). Returns when the user closes the
+    window or presses Ctrl-C."""
+    from ..scene.scene_render import TARGET, VIEWS, SceneRenderer
+    from ..scene.world import WorkerPosture, World
+
+    posture = WorkerPosture(posture_solver(evaluator).model.joint_names, q)
+    with SceneRenderer(World(evaluator.body, evaluator.task, robot, gui=True)) as scene:
+        if arms is None:
+            arms, lift = scene.world.hold_pose(location, posture)
+        scene.pose(location, arms, posture, lift)
+        scene.world.look_at(VIEWS["side"], TARGET)
+        x, y, z = location
+        print(f"showing the box at ({x:.3f}, {y:.3f}, {z:.3f}) m in PyBullet's window; close it "
+              "or press Ctrl-C to finish", file=sys.stderr)
+        scene.world.wait_until_closed()
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.gui:  # before any work: without a display nothing is computed or written
+        require_display("--gui")
     evaluator = evaluator_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:
         table = evaluate(points, evaluator, workers=args.workers, progress=bar.update,
-                         joints=args.render is not None)
+                         joints=args.render is not None or args.gui)
     output = args.output or str(run_folder("evaluate") / "evaluation.csv")
     if output == "-":
         table[list(EVALUATION_COLUMNS)].to_csv(sys.stdout, index=False)
@@ -81,4 +116,6 @@ def run(args: argparse.Namespace) -> int:
     feasible = int(table["feasible"].sum())
     print(f"evaluated {len(table)} locations ({feasible} feasible)"
           + ("" if output == "-" else f" -> {output}"), file=sys.stderr)
+    if args.gui:
+        show_in_window(evaluator, points[0], joint_angles(table)[0])
     return 0

@@ -192,6 +192,16 @@ def add_output_folder_argument(parser: argparse.ArgumentParser, help: str,
     parser.add_argument(flag, type=output_folder, metavar="DIR", help=help)
 
 
+def add_gui_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--gui``: once the command's outputs are written, PyBullet's own window showing
+    ``what``; refused before any work where there is no display."""
+    parser.add_argument("--gui", action="store_true",
+                        help=f"after writing the outputs, show {what} in PyBullet's own window "
+                        "and wait until it is closed (or Ctrl-C); needs a display (DISPLAY or "
+                        "WAYLAND_DISPLAY), else `ergohandover view` shows the scene in a "
+                        "browser (default: no window)")
+
+
 RUNS = Path("runs")
 """Where commands write by default (ignored by git): ``runs/<command>/<timestamp>/``. The study's
 ``results/`` and ``paper_figs/`` are written only by the study scripts."""

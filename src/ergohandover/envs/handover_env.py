@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 from typing import ClassVar
 
@@ -13,6 +14,8 @@ from gymnasium import spaces
 from ..errors import ConfigError, UsageError
 from ..landscape.cache import Landscape
 from ..landscape.grid import DEFAULT_STEP, Grid
+from ..sim import require_display
+from ..twin.evaluate import Evaluator, posture_solver
 from ..twin.task import Boundary
 from .scores import SCORE_MAX, LandscapeScores, OnlineScores, ScoreSource, check_objective
 
@@ -28,6 +31,12 @@ tabular learner."""
 INFEASIBLE_REWARD = -1.0
 """Reward for moving onto an infeasible location: below every feasible reward (which lie in
 (-0.08, 1]), so that it is learned as the worst outcome."""
+RENDER_MODES = ("rgb_array", "human")
+RENDER_FPS = 30
+"""Frames a second of a rendered episode (a video's rate; ``human`` paces its window to it): one
+step, 3 mm of box travel on the default grid, per frame."""
+RENDER_SIZE = (480, 480)
+"""Width and height [px] of an ``rgb_array`` frame: the study's pictures' side view."""
 SYMMETRY_WEIGHT = 0.5
 SYMMETRY_OFFSET = 0.001  # [m]; both from the published code
 
@@ -81,19 +90,34 @@ class HandoverEnv(gym.Env):
     Truncation is left to the ``TimeLimit`` of :func:`~ergohandover.envs.register`
     (:data:`EPISODE_STEPS`).
 
+    ## Rendering
+    The scene at the current cell: the worker in its solved posture holding the box there, the
+    dual-arm robot holding it too (at the first lift that can, else reaching for it), seen from
+    the worker's left side as in the study's pictures (PyBullet, :mod:`~ergohandover.scene`).
+    ``render_mode="rgb_array"``: :meth:`render` returns it as an (480, 480, 3) uint8 image
+    (:data:`RENDER_SIZE`; TinyRenderer, headless, the same image for the same cell).
+    ``render_mode="human"``: PyBullet's own window shows it, updated at every reset and step
+    and paced to ``metadata["render_fps"]``; it needs a display (DISPLAY or WAYLAND_DISPLAY),
+    without one the constructor refuses with a one-line error (``ergohandover view`` shows the
+    scene in a browser). The window opens at the first frame; :meth:`close` closes it. The
+    worker and box are ``evaluator``'s: by default an online source's own, else the default
+    worker and box (a landscape does not record whose it is).
+
     ## Arguments
     scores: a :class:`~ergohandover.envs.scores.ScoreSource`; if omitted, ``landscape`` (a
     :class:`~ergohandover.landscape.sweep.Landscape` or its file), else online ``evaluate()`` on
     ``Grid(boundary, step)`` (paper-code boundary by default) for the default worker and box.
-    objective, observation, episode_end, target, start, infeasible_reward: see above.
+    objective, observation, episode_end, target, start, infeasible_reward, render_mode: see
+    above. evaluator: the worker and box :meth:`render` shows (see Rendering).
 
     ``info``: ``score`` (``inf`` if infeasible), ``location`` (x, y, z) [m], ``cell`` (flat).
 
     ## Version History
-    * v0: initial version.
+    * v0: initial version; ``rgb_array`` and ``human`` rendering added without changing the
+      dynamics.
     """
 
-    metadata: ClassVar[dict] = {"render_modes": []}
+    metadata: ClassVar[dict] = {"render_modes": list(RENDER_MODES), "render_fps": RENDER_FPS}
 
     def __init__(self, scores: ScoreSource | None = None, *,
                  landscape: Landscape | str | Path | None = None,
@@ -101,7 +125,13 @@ class HandoverEnv(gym.Env):
                  episode_end: str = "paper", target: float = 4.0,
                  start: int | tuple[int, int, int] | None = None,
                  infeasible_reward: float = INFEASIBLE_REWARD,
-                 boundary: Boundary | None = None, step: float = DEFAULT_STEP):
+                 boundary: Boundary | None = None, step: float = DEFAULT_STEP,
+                 render_mode: str | None = None, evaluator: Evaluator | None = None):
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise ConfigError(f"render_mode = {render_mode!r} is not allowed (use "
+                              f"{' or '.join(RENDER_MODES)}, or None)")
+        if render_mode == "human":  # refused now, not after the caller has set up a run
+            require_display("render_mode = 'human'")
         if observation not in OBSERVATIONS:
             raise ConfigError(f"observation = {observation!r} is not allowed (use "
                              f"{' or '.join(OBSERVATIONS)})")
@@ -132,6 +162,11 @@ class HandoverEnv(gym.Env):
         self._score_max = float(SCORE_MAX[self.objective])
         self.start = None if start is None else self.flat(start)
         self.cell: int | None = None
+        self.render_mode = render_mode
+        self.evaluator = evaluator or getattr(scores, "evaluator", None) or Evaluator()
+        self._scene = None  # a SceneRenderer, opened by the first frame
+        self._shown: int | None = None  # the cell the scene is posed at
+        self._last_frame = 0.0  # when the window last changed [s, monotonic]
 
     # -- the transition: shared by step() and the learners' fast path --------------------------
     def transition(self, cell: int, action: int) -> tuple[int, float, float, bool]:
@@ -194,6 +229,8 @@ class HandoverEnv(gym.Env):
         self.cell = (int(self.np_random.integers(self.grid.size)) if start is None
                      else self.flat(start))
         score = self._score(self.cell)
+        if self.render_mode == "human":
+            self.render()
         return self._observe(self.cell, score), self._info(self.cell, score)
 
     def step(self, action):
@@ -203,8 +240,57 @@ class HandoverEnv(gym.Env):
         if not 0 <= action < len(ACTIONS):
             raise ConfigError(f"action = {action} is outside the valid range 0-5")
         self.cell, score, reward, terminated = self.transition(self.cell, action)
+        if self.render_mode == "human":
+            self.render()
         return (self._observe(self.cell, score), reward, terminated, False,
                 self._info(self.cell, score))
+
+    def render(self):
+        """The scene at the current cell (see Rendering): an (H, W, 3) uint8 image for
+        ``rgb_array``; ``None`` for ``human`` (the window shows it) and without a mode."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode: pass render_mode="
+                            "'rgb_array' or 'human' to the constructor")
+            return None
+        if self.cell is None:
+            raise UsageError("call reset() before render()")
+        scene = self._posed_scene(self.cell)
+        if self.render_mode == "rgb_array":
+            from ..scene.scene_render import TARGET, VIEWS
+
+            return np.asarray(scene.view(VIEWS["side"], size=RENDER_SIZE, target=TARGET))
+        # Paced like Gymnasium's own human renderers: an agent's walk is watchable.
+        time.sleep(max(0.0, self._last_frame + 1.0 / RENDER_FPS - time.monotonic()))
+        self._last_frame = time.monotonic()
+        return None
+
+    def close(self) -> None:
+        """Close the scene (and its window) if one was opened; the env stays usable."""
+        if self._scene is not None:
+            self._scene.world.close()
+            self._scene, self._shown = None, None
+        super().close()
+
+    def _posed_scene(self, cell: int):
+        """The scene (opened on first use, reopened if the user closed its window) posed at
+        ``cell``: the worker's solved posture there and the robot's hold."""
+        from ..scene.scene_render import TARGET, VIEWS, SceneRenderer
+        from ..scene.world import WorkerPosture, World
+
+        if self._scene is not None and not self._scene.world.connected:
+            self._scene, self._shown = None, None
+        if self._scene is None:
+            ev = self.evaluator
+            self._scene = SceneRenderer(World(ev.body, ev.task, gui=self.render_mode == "human"))
+            self._scene.world.look_at(VIEWS["side"], TARGET)
+        if self._shown != cell:
+            location = np.array(self.location(cell))
+            solver = posture_solver(self.evaluator)
+            posture = WorkerPosture(solver.model.joint_names, solver.solve(location[None]).q[0])
+            arms, lift = self._scene.world.hold_pose(location, posture)
+            self._scene.pose(location, arms, posture, lift)
+            self._shown = cell
+        return self._scene
 
     # -- helpers --------------------------------------------------------------------------------
     def flat(self, cell: int | tuple[int, int, int]) -> int:

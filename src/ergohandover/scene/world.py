@@ -6,6 +6,9 @@ The box is moved kinematically (it is level and never simulated); the robot hold
 ``{side}_robot_grasp`` frames, its base driven to keep the box at arm's length; the worker
 stands at rest (arms hanging) while the box travels and takes its solved posture (from the
 posture solver) at the handover. The carries themselves are planned in :mod:`.planner`.
+
+The client is headless (DIRECT) unless a ``World(gui=True)`` asks for PyBullet's own window, which
+needs a display (:func:`~ergohandover.sim.connect_gui`).
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..frames import worker_to_world
-from ..sim import connect_direct
+from ..sim import connect_direct, connect_gui, wait_while_open
 from ..sim import pybullet as _pybullet
 from ..twin.anthropometry import BodySpec
 from ..twin.task import TaskSpec
@@ -36,7 +39,7 @@ class WorkerPosture(NamedTuple):
 
 
 class World:
-    """One DIRECT PyBullet client holding the worker, the robot and the box.
+    """One PyBullet client holding the worker, the robot and the box.
 
     Use as a context manager (or call :meth:`close`): the client is always disconnected.
 
@@ -44,14 +47,20 @@ class World:
         body: the worker; default the ANSUR II 50th-percentile man.
         task: the box; default :class:`TaskSpec`.
         robot: where the robot stands; default :class:`RobotSpec`.
+        gui: show the scene in PyBullet's own window (needs a display, else
+            :class:`~ergohandover.sim.NoDisplayError`); default headless (DIRECT).
     """
 
     def __init__(self, body: BodySpec | None = None, task: TaskSpec | None = None,
-                 robot: RobotSpec | None = None):
+                 robot: RobotSpec | None = None, gui: bool = False):
         self.p = _pybullet()
         self.body, self.task = body or BodySpec(), task or TaskSpec()
-        self.client = connect_direct()
+        self.gui = gui
+        self.client = connect_gui() if gui else connect_direct()
         try:
+            if gui:  # the scene alone: PyBullet's side panels would cover half of it
+                self.p.configureDebugVisualizer(self.p.COV_ENABLE_GUI, 0,
+                                                physicsClientId=self.client)
             self.worker = load_worker(self.client, self.body)
             self.box = load_box(self.client, self.task)
             self.robot = DualArmRobot(self.client, robot)
@@ -61,8 +70,32 @@ class World:
             raise
 
     def close(self) -> None:
-        if self.p.isConnected(self.client):
+        if self.connected:
             self.p.disconnect(self.client)
+
+    @property
+    def connected(self) -> bool:
+        """False once closed, or once the user closed the GUI window."""
+        return bool(self.p.isConnected(self.client))
+
+    def look_at(self, eye, target) -> None:
+        """Point the GUI window's camera from ``eye`` toward ``target`` (world frame [m]), as
+        :meth:`~.scene_render.SceneRenderer.view` looks; nothing in a headless world."""
+        if not self.gui:
+            return
+        offset = np.asarray(eye, dtype=float) - np.asarray(target, dtype=float)
+        distance = float(np.linalg.norm(offset))
+        # PyBullet's camera sits at yaw 0 on -y of its target, pitch negative looking down.
+        yaw = float(np.degrees(np.arctan2(offset[0], -offset[1])))
+        pitch = -float(np.degrees(np.arcsin(offset[2] / distance)))
+        self.p.resetDebugVisualizerCamera(distance, yaw, pitch, list(target),
+                                          physicsClientId=self.client)
+
+    def wait_until_closed(self) -> None:
+        """Return when the user closes the GUI window or presses Ctrl-C (at once when
+        headless)."""
+        if self.gui:
+            wait_while_open(self.client)
 
     def __enter__(self) -> World:
         return self
@@ -121,6 +154,15 @@ class World:
         self.pose_worker(posture)
         return self.robot.reach(self.grasp_targets(), self.box.body_id, self.worker.body_id,
                                 grasps, seed)
+
+    def hold_pose(self, location: np.ndarray,
+                  posture: WorkerPosture | None = None) -> tuple[dict[str, np.ndarray], float]:
+        """The robot's arms (arm -> joint angles (7,) [rad]) and lift [m] holding the box at
+        ``location`` (worker frame [m]) with the worker in ``posture``: the hold of
+        :meth:`hold_at_some_lift`, else the lowest lift's attempt (a picture still shows the
+        robot reaching)."""
+        reach, lift = self.hold_at_some_lift(location, posture)
+        return reach.q, lift
 
     def hold_at_some_lift(self, location: np.ndarray,
                           posture: WorkerPosture | None = None) -> tuple[Reach, float]:
