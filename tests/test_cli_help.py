@@ -49,8 +49,9 @@ STUDY_DEFAULTS = {
     "episode_end": STUDY.learning.episode_end, "seed": STUDY.baselines.seed,
     "solver": STUDY_EVALUATOR.solver, "trunk_reference": STUDY_EVALUATOR.trunk_reference}
 """Each shared flag's default as the study has it (read here from the study, not the CLI)."""
-MODEL = {"evaluate", "robustness", "sweep", "train", "baseline"}
-SHARED_BY = {"boundary": {"sweep", "train", "baseline"}, "step": {"sweep", "train", "baseline"},
+MODEL = {"evaluate", "robustness", "sweep", "train", "baseline", "view"}
+SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view"},
+             "step": {"sweep", "train", "baseline", "view"},
              "gaze": MODEL, "percentile": MODEL, "trunk_reference": MODEL,
              "solver": {"evaluate", "robustness", "sweep"},
              "seed": {"train", "baseline", "robustness"},
@@ -193,7 +194,8 @@ def field_rule(cls, name: str) -> str:
 
 
 OUTPUT = {"score": "file", "evaluate": "file", "robustness": "file", "baseline": "file",
-          "sweep": "dir", "train": "dir", "landscape-stats": "dir"}
+          "sweep": "dir", "train": "dir", "landscape-stats": "dir", "view": "file"}
+OUTPUT_FLAG = {"view": "--export"}  # the viewer serves; what it writes is a recording
 BAD_FLAGS = [
     (["evaluate", "--points", "POINTS", "--stature", "-1.7"],
      f"--stature -1.7: outside {rule(*STATURE_RANGE_M, 'm')}"),
@@ -241,7 +243,7 @@ def run_bad(argv: list[str], tmp_path: Path, capsys) -> str:
     out = tmp_path / "out" / ("result.csv" if OUTPUT[argv[0]] == "file" else "result")
     before = sorted(tmp_path.rglob("*"))
     capsys.readouterr()
-    assert main([*argv, "--output", str(out)]) == 2
+    assert main([*argv, OUTPUT_FLAG.get(argv[0], "--output"), str(out)]) == 2
     captured = capsys.readouterr()
     assert captured.out == ""
     assert sorted(tmp_path.rglob("*")) == before, "a bad input left a file or folder behind"
@@ -366,7 +368,7 @@ def test_a_file_in_the_way_of_an_output_is_refused_before_anything_runs(tmp_path
     blocker.write_text("")
     for argv, out in ((["score", "--input", str(EXAMPLE)], blocker / "s.csv"),
                       (["sweep"], blocker), (["evaluate", "--points", str(EXAMPLE)], tmp_path)):
-        assert main([*argv, "--output", str(out)]) == 2
+        assert main([*argv, OUTPUT_FLAG.get(argv[0], "--output"), str(out)]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and f"--output {out}: " in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]

@@ -1,0 +1,196 @@
+"""``ergohandover view``'s browser viewer: move the box and watch the worker, the landscape in
+space, named locations to jump to, carries played back.
+
+The GUI calls :class:`.handover.HandoverScene` under one lock (PyBullet's client is not
+thread-safe, and viser runs each callback in a thread of its own).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import viser
+
+from ..errors import ConfigError
+from ..frames import worker_to_world, world_to_worker
+from ..landscape.cache import Landscape
+from ..scene.world import WorkerPosture
+from ..twin.evaluate import Evaluator, evaluate, joint_angles
+from .cloud import colours, landscape_cloud
+from .handover import SCORES, HandoverScene, panel_text, read_path
+
+PLAYBACK_FPS = 20
+# World frame (worker at the origin facing +x, left +y): from the front left, above, so that the
+# worker, the landscape in front of them and the robot beyond are all in view.
+CAMERA = {"eye": (2.2, 2.6, 2.0), "target": (0.5, 0.0, 0.9)}
+
+
+def start_server(host: str, port: int) -> viser.ViserServer:
+    """A viser server on ``host:port``, without its banner on standard output."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        return viser.ViserServer(host=host, port=port, verbose=False)
+
+
+class HandoverViewer:
+    """The viewer: a viser server, the handover scene and its GUI.
+
+    Args:
+        evaluator: the worker and scoring.
+        landscape: the landscape to show as a cloud (its boundary bounds the box's moves).
+        named: name -> worker-frame location (3,) [m] of locations to jump to.
+        paths: carry path files to play back.
+        server: the viser server (:func:`start_server`).
+        gui: also show the scene in PyBullet's own window (needs a display).
+    """
+
+    def __init__(self, evaluator: Evaluator, landscape: Landscape,
+                 named: dict[str, np.ndarray], paths: list[Path], server, gui: bool = False):
+        self.server, self.landscape, self.named = server, landscape, named
+        server.initial_camera.position = CAMERA["eye"]
+        server.initial_camera.look_at = CAMERA["target"]
+        self.lock = threading.RLock()
+        self.syncing = False  # our own updates of the fields and gizmo: not a user's move
+        self.scene = HandoverScene(evaluator, landscape.grid.boundary, server, gui=gui)
+        self.evaluator, self.paths = evaluator, {p.stem: p for p in paths}
+        self.carry: pd.DataFrame | None = None
+        self.carry_posture: WorkerPosture | None = None
+        self.playing = False
+        gui = server.gui
+        start = next(iter(named.values()))
+        with gui.add_folder("box (worker frame, m)"):
+            b = landscape.grid.boundary
+            self.fields = [gui.add_number(axis, float(v), min=float(lo), max=float(hi),
+                                          step=0.001)
+                           for axis, v, lo, hi in zip("xyz", start, b.lower, b.upper,
+                                                      strict=True)]
+        self.panel = gui.add_markdown("")
+        self.gizmo = server.scene.add_transform_controls(
+            "/box_gizmo", scale=0.25, disable_rotations=True,
+            position=tuple(worker_to_world(start)))
+        self._cloud_gui(gui)
+        self._jump_gui(gui)
+        self._carry_gui(gui)
+        for field in self.fields:
+            field.on_update(lambda _: self.syncing or self.move_to([f.value for f in self.fields]))
+        self.gizmo.on_update(lambda _: self.syncing or self.move_to(world_to_worker(
+            np.asarray(self.gizmo.position)), from_gizmo=True))
+        self.move_to(start)
+
+    # --- the box ---------------------------------------------------------------------------
+    def move_to(self, location, from_gizmo: bool = False):
+        """Move the box to ``location`` (worker frame [m]); a location the viewer refuses is
+        one line in the panel and changes nothing."""
+        location = np.asarray(location, dtype=float)
+        if from_gizmo:  # a drag may overshoot: the box stops at the boundary
+            b = self.landscape.grid.boundary
+            location = np.clip(location, b.lower, b.upper)
+        with self.lock:
+            try:
+                move = self.scene.move(location)
+            except ConfigError as error:
+                self.panel.content = f"**refused**: {error}"
+                return None
+            self.panel.content = panel_text(move)
+            self.syncing = True
+            try:
+                for field, value in zip(self.fields, move.location, strict=True):
+                    if abs(field.value - value) > 5e-4:
+                        field.value = float(value)
+                if not from_gizmo:
+                    self.gizmo.position = tuple(worker_to_world(move.location))
+            finally:
+                self.syncing = False
+        return move
+
+    # --- the landscape ---------------------------------------------------------------------
+    def _cloud_gui(self, gui) -> None:
+        with gui.add_folder("landscape"):
+            self.score = gui.add_dropdown("colour by", tuple(SCORES),
+                                          initial_value="paper_postural")
+            values = self.landscape.arrays["paper_postural"][self.landscape.feasible]
+            self.ceiling = gui.add_slider("show scores <=", int(values.min()),
+                                          int(values.max()), 1, int(values.max()))
+            self.point_size = gui.add_slider("point size [mm]", 1, 10, 1, 4)
+        for control in (self.score, self.ceiling, self.point_size):
+            control.on_update(lambda _: self.draw_cloud())
+        self.draw_cloud()
+
+    def draw_cloud(self) -> None:
+        """The landscape's cells scoring at most the slider's value, coloured by the score."""
+        cloud = landscape_cloud(self.landscape, self.score.value)
+        keep = cloud.values <= self.ceiling.value
+        low, high = cloud.values.min(), cloud.values.max()
+        self.server.scene.add_point_cloud(
+            "/landscape", cloud.points[keep], colours(cloud.values[keep], low, high),
+            point_size=self.point_size.value / 1000, point_shape="circle")
+
+    # --- named locations -------------------------------------------------------------------
+    def _jump_gui(self, gui) -> None:
+        with gui.add_folder("go to"):
+            self.target = gui.add_dropdown("location", tuple(self.named))
+            button = gui.add_button("move the box there")
+        button.on_click(lambda _: self.move_to(self.named[self.target.value]))
+        for k, (name, location) in enumerate(self.named.items()):
+            at = tuple(worker_to_world(location))
+            self.server.scene.add_icosphere(f"/named/{k}/marker", radius=0.012,
+                                            color=(40, 90, 220), position=at)
+            self.server.scene.add_label(f"/named/{k}/label", name, position=at)
+
+    # --- carries ---------------------------------------------------------------------------
+    def _carry_gui(self, gui) -> None:
+        if not self.paths:
+            return
+        with gui.add_folder("carries"):
+            self.carry_name = gui.add_dropdown("path file", tuple(self.paths))
+            load = gui.add_button("load")
+            self.play_button = gui.add_button("play / pause")
+            self.timeline = gui.add_slider("time [s]", 0.0, 1.0, 0.01, 0.0)
+        load.on_click(lambda _: self.load_carry(self.carry_name.value))
+        self.play_button.on_click(lambda _: self.toggle_play())
+        self.timeline.on_update(lambda _: self.show_time(self.timeline.value))
+
+    def load_carry(self, name: str) -> None:
+        """Load a path file: the timeline spans it; the worker takes the box at its end."""
+        table = read_path(self.paths[name])
+        end = table[["box_x", "box_y", "box_z"]].to_numpy(float)[-1]
+        row = evaluate(end[None], self.evaluator, joints=True)
+        with self.lock:
+            self.carry = table
+            self.carry_posture = (WorkerPosture(self.scene.names, joint_angles(row)[0])
+                                  if row["feasible"].iloc[0] else None)
+        self.timeline.max = float(table["time"].iloc[-1])
+        self.timeline.value = 0.0
+        self.show_time(0.0)
+
+    def show_time(self, t: float) -> None:
+        """The carry at time ``t`` [s] (the last waypoint at or before it)."""
+        if self.carry is None:
+            return
+        k = int(np.searchsorted(self.carry["time"].to_numpy(float), t, side="right")) - 1
+        with self.lock:
+            self.scene.show_path(self.carry, max(k, 0), self.carry_posture)
+
+    def toggle_play(self) -> None:
+        if self.carry is None:
+            return
+        self.playing = not self.playing
+        if self.playing:
+            threading.Thread(target=self._play, daemon=True).start()
+
+    def _play(self) -> None:
+        end = float(self.carry["time"].iloc[-1])
+        while self.playing:
+            t = self.timeline.value + 1 / PLAYBACK_FPS
+            self.timeline.value = 0.0 if t > end + 1e-9 else round(t, 3)
+            time.sleep(1 / PLAYBACK_FPS)
+
+    def close(self) -> None:
+        self.playing = False
+        self.server.stop()
+        self.scene.close()

@@ -1,0 +1,44 @@
+"""A landscape as a point cloud: its feasible cells in the world frame, coloured by a score.
+
+A browser draws a few hundred thousand points smoothly, not a 3 mm landscape's millions: the
+cloud keeps every k-th cell along each axis, k the smallest that keeps it under
+:data:`MAX_POINTS`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from matplotlib import colormaps
+
+from ..frames import worker_to_world
+from ..landscape.cache import Landscape
+from ..robustness.search import coarse_cells
+
+MAX_POINTS = 150_000
+COLOURMAP = "RdYlGn_r"  # green is a low (good) score, red a high one
+
+
+class Cloud(NamedTuple):
+    """Points (N, 3) world frame [m], float32; each one's score (N,); the stride kept."""
+
+    points: np.ndarray
+    values: np.ndarray
+    stride: int
+
+
+def landscape_cloud(landscape: Landscape, score: str) -> Cloud:
+    """The landscape's feasible cells, every ``stride``-th along each axis, with ``score``."""
+    feasible = int(landscape.feasible.sum())
+    stride = max(1, int(np.ceil((feasible / MAX_POINTS) ** (1 / 3))))
+    cells = coarse_cells(landscape.grid, stride)
+    cells = cells[landscape.feasible[cells]]
+    points = worker_to_world(landscape.grid.coordinates(cells)).astype(np.float32)
+    return Cloud(points, landscape.arrays[score][cells].astype(int), stride)
+
+
+def colours(values: np.ndarray, low: float, high: float) -> np.ndarray:
+    """(N, 3) uint8 colours of scores between ``low`` (green) and ``high`` (red)."""
+    share = (values - low) / max(high - low, 1e-9)
+    return (255 * colormaps[COLOURMAP](np.clip(share, 0, 1))[:, :3]).astype(np.uint8)
