@@ -71,3 +71,27 @@ def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list
           file=sys.stderr)
     return [*paths, sheet, *gifs]
 
+
+
+def record(table, boundary, evaluator: Evaluator, paths: Path, folder: Path) -> list[Path]:
+    """A scene recording per start (``start<k>.html``: the twin at each of its locations, then
+    the robot's carry to the optimised one from ``paths``), each a page that opens in a browser
+    without Python; nothing, said in one line, without the viewer extra."""
+    import importlib.util
+
+    if importlib.util.find_spec("viser") is None:
+        print("recordings skipped: the viewer extra is not installed (pip install -e "
+              "'.[viewer]')", file=sys.stderr)
+        return []
+    from ..viewer.recording import record_comparison, write_recording
+
+    folder.mkdir(parents=True, exist_ok=True)
+    starts = table.groupby(["start_x", "start_y", "start_z"], sort=False).ngroup() + 1
+    written = []
+    for start in sorted(starts.unique()):
+        carry = paths / f"start{start}_optimised.csv"
+        html = record_comparison(evaluator, boundary, table[starts == start],
+                                 carry if carry.exists() else None)
+        written.append(write_recording(html, folder / f"start{start}.html"))
+    print(f"wrote {len(written)} recordings into {folder}", file=sys.stderr)
+    return written

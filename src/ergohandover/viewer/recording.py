@@ -20,7 +20,7 @@ from .app import start_server
 from .handover import HandoverScene, read_path
 
 HOLD_S = 2.0  # how long each location is shown
-CARRY_FPS = 10  # frames per second of a played-back carry
+CARRY_FPS = 5  # frames per second of a played-back carry (a recording grows with each)
 
 
 def free_port() -> int:

@@ -10,7 +10,9 @@ self-penetration, largest joint step), paths/ (a CSV per planned carry: time, bo
 robot joint), other_starts.csv (carries to the optimum from starts drawn around the worker),
 reachability.csv and reachability_summary.csv (where the robot can hold the box over the
 configured boundaries, and the best location of the landscape it can hold), renders/ (a PNG
-per start and method, a contact sheet, a GIF per planned carry), manifest.json.
+per start and method, a contact sheet, a GIF per planned carry), recordings/ (a scene
+recording per start that opens in a browser without Python; with the viewer extra),
+manifest.json.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from ...landscape.grid import parse_boundary
 from ...scene.carries import replay
 from ...scene.robot import RobotSpec
 from ...scene.robot_urdf import cached_robot_urdf
-from ..baseline_outputs import render, write_paths
+from ..baseline_outputs import record, render, write_paths
 from ..baselines import PAPER_STARTS, compare, markdown_table, reasonable_starts
 from ..config import LearnedLocation, StudyConfig
 from ..engines import Engine
@@ -131,6 +133,8 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                          folder / "reachability_summary.csv")
         if part.render:
             render(result, evaluator, robot, folder / "renders")
+            record(table, landscape.grid.boundary, evaluator, folder / "paths",
+                   folder / "recordings")
         return {"starts": len(PAPER_STARTS),
                 "carries_planned": sum(plan.ok for plan in result.plans),
                 "other_starts_planned": int(others["robot_feasible"].sum()),
