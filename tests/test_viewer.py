@@ -111,6 +111,25 @@ def test_a_move_re_solves_the_twin_and_the_panel_shows_its_scores(viewer):
     np.testing.assert_allclose([f.value for f in viewer.fields], BAD)
 
 
+def test_the_landscape_can_be_coloured_by_the_score_expected_under_posture_error(viewer):
+    from scipy import stats
+
+    from ergohandover.viewer.app import EXPECTED
+
+    nominal = viewer.cloud("paper_postural")
+    viewer.score.value = EXPECTED
+    try:
+        expected = viewer.expected
+        assert expected is not None and len(expected.values) == len(nominal.values)
+        np.testing.assert_array_equal(expected.points, nominal.points)
+        # Error only moves a posture off its band: never below the landscape's minimum, and the
+        # ordering of the cells is kept broadly.
+        assert expected.values.min() >= nominal.values.min()
+        assert stats.spearmanr(expected.values, nominal.values).statistic > 0.5
+    finally:
+        viewer.score.value = "paper_postural"
+
+
 @pytest.mark.skipif(not PATHS.is_dir(), reason="no committed carries")
 def test_a_carry_plays_back_its_path(viewer):
     name = "start1_optimised"

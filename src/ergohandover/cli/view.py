@@ -18,6 +18,7 @@ from ..io.csv_input import InputError
 from ..landscape.stats import optimum
 from ..sim import require_display
 from ..study.baselines import PAPER_STARTS, shortest_distance
+from ..study.config import StudyConfig
 from .baseline import obtain_landscape
 from .options import (
     add_evaluator_arguments,
@@ -30,7 +31,8 @@ from .options import (
 from .values import existing_file, number, output_file, whole
 
 DEFAULT_PORT = 8080
-RESULTS_BASELINES = Path("results") / "baselines"
+RESULTS = Path("results")
+RESULTS_BASELINES = RESULTS / "baselines"
 INSTALL_HINT = 'pip install -e ".[viewer]"'
 
 DESCRIPTION = f"""\
@@ -102,12 +104,23 @@ def check_port(host: str, port: int) -> None:
                              f"({error.strerror}); choose another with --port") from None
 
 
-def named_locations(landscape) -> dict[str, np.ndarray]:
-    """The optimum and each paper start's shortest-distance location."""
+def named_locations(landscape, evaluator) -> dict[str, np.ndarray]:
+    """The optimum and each paper start's shortest-distance location; for the study's worker,
+    also the robustness part's headline locations that lie within the boundary (the robust
+    optimum, the learned location, the one-size ones, ...)."""
     named = {"optimum (paper score)": optimum(landscape, "paper_postural")[1]}
     for k, start in enumerate(PAPER_STARTS, start=1):
         named[f"shortest distance, start {k}"] = shortest_distance(start,
                                                                    landscape.grid.boundary)
+    study = RESULTS / "robustness" / "locations.csv"
+    if evaluator == StudyConfig().evaluator() and study.exists():
+        b = landscape.grid.boundary
+        for name, row in pd.read_csv(study).drop_duplicates("location").set_index(
+                "location")[["x", "y", "z"]].iterrows():
+            where = row.to_numpy(float)
+            if not name.startswith(("nominal", "shortest")) and np.all(
+                    (where >= b.lower - 1e-9) & (where <= b.upper + 1e-9)):
+                named[f"{name} (study)"] = where
     return named
 
 
@@ -143,8 +156,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--paths {args.paths}: no such folder")
     paths = sorted(paths_dir.glob("*.csv")) if paths_dir.is_dir() else []
     server = app.start_server(args.host, args.port)
-    viewer = app.HandoverViewer(evaluator, landscape, named_locations(landscape), paths,
-                                server, gui=args.gui)
+    viewer = app.HandoverViewer(evaluator, landscape, named_locations(landscape, evaluator),
+                                paths, server, gui=args.gui)
     print(f"viewer at http://{args.host}:{args.port} (Ctrl-C to stop)", flush=True)
     try:
         deadline = time.monotonic() + (args.seconds or float("inf"))

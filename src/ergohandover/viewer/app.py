@@ -22,10 +22,13 @@ from ..frames import worker_to_world, world_to_worker
 from ..landscape.cache import Landscape
 from ..scene.world import WorkerPosture
 from ..twin.evaluate import Evaluator, evaluate, joint_angles
-from .cloud import colours, landscape_cloud
+from .cloud import colours, expected_cloud, landscape_cloud
 from .handover import SCORES, HandoverScene, panel_text, read_path
 
 PLAYBACK_FPS = 20
+EXPECTED = "expected paper_postural (5 deg error)"
+"""The colouring by the paper score expected under the robustness part's 5 deg of posture
+error (computed when first chosen: the twin at every shown cell)."""
 # World frame (worker at the origin facing +x, left +y): from the front left, above, so that the
 # worker, the landscape in front of them and the robot beyond are all in view.
 CAMERA = {"eye": (2.2, 2.6, 2.0), "target": (0.5, 0.0, 0.9)}
@@ -59,6 +62,7 @@ class HandoverViewer:
         self.scene = HandoverScene(evaluator, landscape.grid.boundary, server, gui=gui)
         self.evaluator, self.paths = evaluator, {p.stem: p for p in paths}
         self.carry: pd.DataFrame | None = None
+        self.expected = None  # the cloud's expected scores, once asked for
         self.carry_posture: WorkerPosture | None = None
         self.playing = False
         gui = server.gui
@@ -111,7 +115,7 @@ class HandoverViewer:
     # --- the landscape ---------------------------------------------------------------------
     def _cloud_gui(self, gui) -> None:
         with gui.add_folder("landscape"):
-            self.score = gui.add_dropdown("colour by", tuple(SCORES),
+            self.score = gui.add_dropdown("colour by", (*SCORES, EXPECTED),
                                           initial_value="paper_postural")
             values = self.landscape.arrays["paper_postural"][self.landscape.feasible]
             self.ceiling = gui.add_slider("show scores <=", int(values.min()),
@@ -121,9 +125,19 @@ class HandoverViewer:
             control.on_update(lambda _: self.draw_cloud())
         self.draw_cloud()
 
+    def cloud(self, score: str):
+        """The cloud coloured by ``score`` (the expected score's computed once)."""
+        if score != EXPECTED:
+            return landscape_cloud(self.landscape, score)
+        if self.expected is None:
+            with self.lock:
+                self.expected = expected_cloud(landscape_cloud(self.landscape, "paper_postural"),
+                                               self.evaluator, 5.0)
+        return self.expected
+
     def draw_cloud(self) -> None:
         """The landscape's cells scoring at most the slider's value, coloured by the score."""
-        cloud = landscape_cloud(self.landscape, self.score.value)
+        cloud = self.cloud(self.score.value)
         keep = cloud.values <= self.ceiling.value
         low, high = cloud.values.min(), cloud.values.max()
         self.server.scene.add_point_cloud(

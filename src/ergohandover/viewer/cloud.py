@@ -12,12 +12,15 @@ from typing import NamedTuple
 import numpy as np
 from matplotlib import colormaps
 
-from ..frames import worker_to_world
+from ..frames import worker_to_world, world_to_worker
 from ..landscape.cache import Landscape
-from ..robustness.search import coarse_cells
+from ..robustness.posture_error import ErrorModel, expected_scores
+from ..robustness.search import coarse_cells, postures_at
+from ..twin.evaluate import Evaluator
 
 MAX_POINTS = 150_000
 COLOURMAP = "RdYlGn_r"  # green is a low (good) score, red a high one
+EXPECTED_DRAWS = 128  # measurements per cell: the robust search's screening count
 
 
 class Cloud(NamedTuple):
@@ -36,6 +39,15 @@ def landscape_cloud(landscape: Landscape, score: str) -> Cloud:
     cells = cells[landscape.feasible[cells]]
     points = worker_to_world(landscape.grid.coordinates(cells)).astype(np.float32)
     return Cloud(points, landscape.arrays[score][cells].astype(int), stride)
+
+
+def expected_cloud(cloud: Cloud, evaluator: Evaluator, sd_deg: float, seed: int = 0) -> Cloud:
+    """The cloud's cells with their expected paper score when every measured angle carries
+    Gaussian error of ``sd_deg`` (the robustness part's model; every cell measured with the
+    same errors, so that neighbours compare fairly)."""
+    posture, feasible = postures_at(world_to_worker(cloud.points.astype(float)), evaluator)
+    values = expected_scores(posture, ErrorModel(sd_deg), EXPECTED_DRAWS, seed)
+    return Cloud(cloud.points[feasible], values[feasible], cloud.stride)
 
 
 def colours(values: np.ndarray, low: float, high: float) -> np.ndarray:
