@@ -114,7 +114,10 @@ def test_a_move_re_solves_the_twin_and_the_panel_shows_its_scores(viewer):
 def test_the_landscape_can_be_coloured_by_the_score_expected_under_posture_error(viewer):
     from scipy import stats
 
-    from ergohandover.viewer.app import EXPECTED
+    from ergohandover.study.config import RobustnessConfig
+    from ergohandover.viewer.app import EXPECTED, EXPECTED_SD_DEG
+
+    assert RobustnessConfig().robust_sd == EXPECTED_SD_DEG  # the study's robust SD
 
     nominal = viewer.cloud("paper_postural")
     viewer.score.value = EXPECTED

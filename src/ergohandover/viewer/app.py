@@ -26,9 +26,12 @@ from .cloud import colours, expected_cloud, landscape_cloud
 from .handover import SCORES, HandoverScene, panel_text, read_path
 
 PLAYBACK_FPS = 20
-EXPECTED = "expected paper_postural (5 deg error)"
-"""The colouring by the paper score expected under the robustness part's 5 deg of posture
-error (computed when first chosen: the twin at every shown cell)."""
+EXPECTED_SD_DEG = 5.0
+"""The posture error of the expected-score colouring: the study's robust SD
+(``RobustnessConfig.robust_sd``, which the study layer above owns; a test keeps them equal)."""
+EXPECTED = f"expected paper_postural ({EXPECTED_SD_DEG:g} deg error)"
+"""The colouring by the paper score expected under that error (computed when first chosen:
+the twin at every shown cell)."""
 # World frame (worker at the origin facing +x, left +y): from the front left, above, so that the
 # worker, the landscape in front of them and the robot beyond are all in view.
 CAMERA = {"eye": (2.2, 2.6, 2.0), "target": (0.5, 0.0, 0.9)}
@@ -65,21 +68,21 @@ class HandoverViewer:
         self.expected = None  # the cloud's expected scores, once asked for
         self.carry_posture: WorkerPosture | None = None
         self.playing = False
-        gui = server.gui
+        controls = server.gui
         start = next(iter(named.values()))
-        with gui.add_folder("box (worker frame, m)"):
+        with controls.add_folder("box (worker frame, m)"):
             b = landscape.grid.boundary
-            self.fields = [gui.add_number(axis, float(v), min=float(lo), max=float(hi),
+            self.fields = [controls.add_number(axis, float(v), min=float(lo), max=float(hi),
                                           step=0.001)
                            for axis, v, lo, hi in zip("xyz", start, b.lower, b.upper,
                                                       strict=True)]
-        self.panel = gui.add_markdown("")
+        self.panel = controls.add_markdown("")
         self.gizmo = server.scene.add_transform_controls(
             "/box_gizmo", scale=0.25, disable_rotations=True,
             position=tuple(worker_to_world(start)))
-        self._cloud_gui(gui)
-        self._jump_gui(gui)
-        self._carry_gui(gui)
+        self._cloud_gui(controls)
+        self._jump_gui(controls)
+        self._carry_gui(controls)
         for field in self.fields:
             field.on_update(lambda _: self.syncing or self.move_to([f.value for f in self.fields]))
         self.gizmo.on_update(lambda _: self.syncing or self.move_to(world_to_worker(
@@ -132,7 +135,7 @@ class HandoverViewer:
         if self.expected is None:
             with self.lock:
                 self.expected = expected_cloud(landscape_cloud(self.landscape, "paper_postural"),
-                                               self.evaluator, 5.0)
+                                               self.evaluator, EXPECTED_SD_DEG)
         return self.expected
 
     def draw_cloud(self) -> None:
