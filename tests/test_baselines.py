@@ -138,7 +138,11 @@ def test_baseline_writes_csv_markdown_manifest_paths_and_pictures(capsys, tiny_l
         assert row.distance_m - 1e-9 <= row.path_length_m and row.clearance_m > 0.0
         assert row.waypoints >= row.distance_m / 0.02 and row.checks > 0
     markdown = out.with_suffix(".md").read_text()
-    assert markdown == printed and markdown.count("\n") == 3
+    assert printed.startswith(markdown) and markdown.count("\n") == 3
+    # Then the optimum and the robust optimum under 5 deg of posture error (robust.csv).
+    robust = pd.read_csv(tmp_path / "robust.csv")
+    assert list(robust["location"].unique()) == ["nominal optimum", "robust optimum"]
+    assert printed[len(markdown):].count("\n") == 4 and "robust optimum (" in printed
     assert "| (0.000, 1.100, 0.600) |" in markdown and "waypoints, clearance" in markdown
     manifest = json.loads((tmp_path / "manifest.json").read_text())
     assert manifest["config"]["landscape_key"] == landscape.key
