@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import platform
-import socket
 import statistics
 import time
 
@@ -26,15 +25,9 @@ from ergohandover.landscape.grid import Grid, parse_boundary
 from ergohandover.landscape.store import landscape_of
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.pybullet_ik import PyBulletSolver
-from ergohandover.viewer.app import HandoverViewer, start_server
+from ergohandover.viewer.app import HandoverViewer, free_port, start_server
 
 TARGET_MS = 50.0
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 def timed(function, locations) -> list[float]:

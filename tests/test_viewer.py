@@ -21,7 +21,7 @@ from ergohandover.frames import worker_to_world
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.store import landscape_of
 from ergohandover.twin.evaluate import Evaluator, evaluate
-from ergohandover.viewer.app import HandoverViewer, start_server
+from ergohandover.viewer.app import HandoverViewer, free_port, start_server
 from ergohandover.viewer.handover import panel_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,12 +32,6 @@ needs_browser = pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium i
 GOOD, BAD = np.array([0.0, 1.02, 0.42]), np.array([0.0, 0.73, 0.31])  # takes it / box in body
 SIZE = (1280, 800)
 SCENE = (slice(160, 800), slice(0, 930))  # below the notice, left of the GUI panel
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 def browser(url: str, path: Path | None = None, wait_ms: int = 30000) -> str:

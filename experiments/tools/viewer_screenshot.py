@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import shutil
-import socket
 import subprocess
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import pandas as pd
 from ergohandover.landscape.store import landscape_of
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.parts.shared import grid_of
-from ergohandover.viewer.app import HandoverViewer, start_server
+from ergohandover.viewer.app import HandoverViewer, free_port, start_server
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -37,9 +36,7 @@ def main() -> None:
     stats = pd.read_csv(ROOT / "results" / "landscape" / "stats.csv")
     best = stats[stats["score"] == "paper_postural"].iloc[0]
     optimum = best[["best_x", "best_y", "best_z"]].to_numpy(float)
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+    port = free_port()
     paths = sorted((ROOT / "results" / "baselines" / "paths").glob("*.csv"))
     viewer = HandoverViewer(evaluator, landscape, {"optimum": optimum}, paths,
                             start_server("127.0.0.1", port))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import socket
 import threading
 import time
 from pathlib import Path
@@ -35,6 +36,14 @@ the twin at every shown cell)."""
 # World frame (worker at the origin facing +x, left +y): from the front left, above, so that the
 # worker, the landscape in front of them and the robot beyond are all in view.
 CAMERA = {"eye": (2.2, 2.6, 2.0), "target": (0.5, 0.0, 0.9)}
+
+
+def free_port() -> int:
+    """A local port nobody listens on (for a server nobody is told about: a recording's, a
+    benchmark's, a test's)."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
 
 
 def start_server(host: str, port: int) -> viser.ViserServer:

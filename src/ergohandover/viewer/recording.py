@@ -6,7 +6,6 @@ of the box to the optimised location.
 
 from __future__ import annotations
 
-import socket
 from pathlib import Path
 
 import numpy as np
@@ -16,18 +15,11 @@ from ..io.atomic import atomic_write
 from ..scene.world import WorkerPosture
 from ..twin.evaluate import Evaluator, evaluate, joint_angles
 from ..twin.task import Boundary
-from .app import start_server
+from .app import free_port, start_server
 from .handover import HandoverScene, read_path
 
 HOLD_S = 2.0  # how long each location is shown
 CARRY_FPS = 5  # frames per second of a played-back carry (a recording grows with each)
-
-
-def free_port() -> int:
-    """A port nobody listens on (the recorder's server is never visited)."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 def record_comparison(evaluator: Evaluator, boundary: Boundary, rows: pd.DataFrame,
