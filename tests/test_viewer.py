@@ -71,9 +71,10 @@ def pixels(path: Path) -> np.ndarray:
 
 
 def shirt(image: np.ndarray) -> np.ndarray:
-    """The worker's blue shirt and trousers."""
-    r, b = image[..., 0], image[..., 2]
-    return (b > 150) & (r < 100) & (b - r > 80)
+    """The worker's blue shirt and trousers (also while the client fades the meshes in, when
+    they are lighter: blue above red and green, not a particular shade)."""
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return (b > 150) & (b - r > 60) & (b > g)
 
 
 def scored(image: np.ndarray) -> np.ndarray:
