@@ -45,9 +45,7 @@ class Browser:
     fade-in. (A fixed virtual-time budget can end before a busy machine has sent the scene.)"""
 
     def __init__(self):
-        with socket.socket() as probe:
-            probe.bind(("127.0.0.1", 0))
-            port = probe.getsockname()[1]
+        port = free_port()
         self.process = subprocess.Popen(
             [CHROMIUM, "--headless", "--no-sandbox", "--use-gl=angle",
              "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
@@ -199,7 +197,7 @@ def test_the_landscape_can_be_coloured_by_the_score_expected_under_posture_error
     nominal = viewer.cloud("paper_postural")
     viewer.score.value = EXPECTED
     try:
-        expected = viewer.expected
+        expected = viewer.clouds.get(EXPECTED)
         assert expected is not None and len(expected.values) == len(nominal.values)
         np.testing.assert_array_equal(expected.points, nominal.points)
         # Error only moves a posture off its band: never below the landscape's minimum, and the

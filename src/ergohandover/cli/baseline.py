@@ -8,15 +8,11 @@ import argparse
 import dataclasses
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
 from ..io.atomic import atomic_write, atomic_write_csv
-from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
-from ..landscape.cache import Landscape, landscape_key
-from ..landscape.store import landscape_of
 from ..scene.robot import RobotSpec
 from ..sim import require_display
 from ..study.baseline_outputs import render, write_paths
@@ -30,17 +26,17 @@ from .options import (
     add_evaluator_arguments,
     add_grid_arguments,
     add_gui_argument,
+    add_landscape_argument,
     add_output_folder_argument,
     add_workers_argument,
     evaluator_from_args,
     field_help,
-    grid_from_args,
+    obtain_landscape,
     run_folder,
     writable,
 )
-from .parser import given
-from .refusals import model, read_landscape
-from .values import existing_file, field_value, number, output_file, point, whole
+from .refusals import model
+from .values import field_value, number, output_file, point, whole
 
 ROBOT_FLAGS = {"distance": "robot-distance", "drive_range": "robot-drive",
                "arm_spacing": "robot-spacing", "mount_height": "robot-height"}
@@ -71,9 +67,7 @@ def add_parser(subparsers) -> None:
     add_grid_arguments(parser, "handover boundary; with --landscape: the landscape's",
                        "grid step [m]; with --landscape: the landscape's")
     add_evaluator_arguments(parser, solver=False)
-    parser.add_argument("--landscape", type=existing_file, metavar="FILE",
-                        help="a landscape .npz (default: the matching one from the landscape "
-                        "cache, swept into it when missing)")
+    add_landscape_argument(parser)
     parser.add_argument("--output", type=output_file, metavar="FILE",
                         help="CSV to write (its folder is created if needed); the .md table and "
                         "manifest.json go beside it (default: "
@@ -105,28 +99,6 @@ def add_parser(subparsers) -> None:
                      "holding it there, if the carry was not planned)")
     add_workers_argument(parser, "processes for a sweep and for planning carries")
     parser.set_defaults(run=run)
-
-
-def obtain_landscape(args, evaluator: Evaluator) -> tuple[Landscape, Path]:
-    """The given landscape (checked against the flags), or the landscape door's (from the
-    cache, swept into it when missing)."""
-    if args.landscape is not None:
-        landscape = read_landscape(args.landscape, "--landscape")
-        flags = given(args)  # the grid is the landscape's own but for what a flag says
-        grid = grid_from_args(
-            evaluator, args.boundary if "boundary" in flags else landscape.grid.boundary,
-            args.step if "step" in flags else landscape.grid.step)
-        if landscape.key != landscape_key(evaluator, grid):
-            raise InputError(f"--landscape {args.landscape} was made with other settings "
-                             f"(worker, boundary, step or version; key {landscape.key}, "
-                             f"expected {landscape_key(evaluator, grid)}); omit --landscape "
-                             "to sweep the matching one")
-        return landscape, args.landscape
-    grid = grid_from_args(evaluator, args.boundary, args.step)
-    print(f"landscape: {grid.describe()}", file=sys.stderr)
-    landscape = landscape_of(evaluator, grid, workers=args.workers)
-    print(f"landscape: {landscape.path}", file=sys.stderr)
-    return landscape, landscape.path
 
 
 def robust_lines(robust) -> str:

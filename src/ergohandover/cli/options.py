@@ -16,12 +16,14 @@ import time
 from pathlib import Path
 from typing import Any, TypeVar
 
+from ..io.csv_input import InputError
 from . import defaults
 from .parser import given
-from .refusals import BODY_FLAGS, model
+from .refusals import BODY_FLAGS, model, read_landscape
 from .values import (
     boundary,
     choice,
+    existing_file,
     field_value,
     number,
     output_folder,
@@ -179,6 +181,40 @@ def grid_from_args(evaluator, boundary, step: float):
     if isinstance(boundary, str):
         boundary = model(parse_boundary, boundary, evaluator.body, evaluator.task)
     return model(Grid, boundary, step)
+
+
+def add_landscape_argument(parser: argparse.ArgumentParser) -> None:
+    """``--landscape FILE``, read by :func:`obtain_landscape` (``baseline``, ``view``)."""
+    parser.add_argument("--landscape", type=existing_file, metavar="FILE",
+                        help="a landscape .npz (default: the matching one from the landscape "
+                        "cache, swept into it when missing)")
+
+
+def obtain_landscape(args, evaluator):
+    """The given landscape (checked against the flags), or the landscape door's (from the
+    cache, swept into it when missing): the landscape and where it lives."""
+    import sys
+
+    from ..landscape.cache import landscape_key
+    from ..landscape.store import landscape_of
+
+    if args.landscape is not None:
+        landscape = read_landscape(args.landscape, "--landscape")
+        flags = given(args)  # the grid is the landscape's own but for what a flag says
+        grid = grid_from_args(
+            evaluator, args.boundary if "boundary" in flags else landscape.grid.boundary,
+            args.step if "step" in flags else landscape.grid.step)
+        if landscape.key != landscape_key(evaluator, grid):
+            raise InputError(f"--landscape {args.landscape} was made with other settings "
+                             f"(worker, boundary, step or version; key {landscape.key}, "
+                             f"expected {landscape_key(evaluator, grid)}); omit --landscape "
+                             "to sweep the matching one")
+        return landscape, args.landscape
+    grid = grid_from_args(evaluator, args.boundary, args.step)
+    print(f"landscape: {grid.describe()}", file=sys.stderr)
+    landscape = landscape_of(evaluator, grid, workers=args.workers)
+    print(f"landscape: {landscape.path}", file=sys.stderr)
+    return landscape, landscape.path
 
 
 def add_workers_argument(parser: argparse.ArgumentParser, what: str) -> None:

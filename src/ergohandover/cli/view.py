@@ -17,15 +17,17 @@ from ..errors import ConfigError
 from ..io.csv_input import InputError
 from ..landscape.stats import optimum
 from ..sim import require_display
+from ..study.baseline_outputs import record_start, start_numbers
 from ..study.baselines import PAPER_STARTS, shortest_distance
 from ..study.config import StudyConfig
-from .baseline import obtain_landscape
 from .options import (
     add_evaluator_arguments,
     add_grid_arguments,
+    add_landscape_argument,
     add_workers_argument,
     evaluator_from_args,
     grid_from_args,
+    obtain_landscape,
     writable,
 )
 from .values import existing_file, number, output_file, whole
@@ -60,9 +62,7 @@ def add_parser(subparsers) -> None:
                        "the landscape's", "grid step [m] of the landscape; with --landscape: "
                        "the landscape's")
     add_evaluator_arguments(parser, solver=False)
-    parser.add_argument("--landscape", type=existing_file, metavar="FILE",
-                        help="a landscape .npz (default: the matching one from the landscape "
-                        "cache, swept into it when missing)")
+    add_landscape_argument(parser)
     parser.add_argument("--paths", type=Path, metavar="DIR",
                         help="a folder of carry path files to play back (default: "
                         f"{RESULTS_BASELINES / 'paths'} when it exists)")
@@ -127,16 +127,12 @@ def named_locations(landscape, evaluator) -> dict[str, np.ndarray]:
 def export(args, evaluator, recording) -> int:
     """Write one start's recording."""
     table = pd.read_csv(args.baselines or RESULTS_BASELINES / "baselines.csv")
-    starts = table.groupby(["start_x", "start_y", "start_z"], sort=False).ngroup()
-    rows = table[starts == args.start - 1]
-    if rows.empty:
-        raise InputError(f"--start {args.start}: the baselines table has "
-                         f"{starts.max() + 1} starts")
-    paths = args.paths or RESULTS_BASELINES / "paths"
-    carry = paths / f"start{args.start}_optimised.csv"
     boundary = grid_from_args(evaluator, args.boundary, args.step).boundary
-    html = recording.record_comparison(evaluator, boundary, rows,
-                                       carry if carry.exists() else None)
+    html = record_start(table, args.start, boundary, evaluator,
+                        args.paths or RESULTS_BASELINES / "paths")
+    if html is None:
+        raise InputError(f"--start {args.start}: the baselines table has "
+                         f"{start_numbers(table).max()} starts")
     written = recording.write_recording(html, writable(args.export))
     print(f"wrote {written} ({len(html) / 1e6:.1f} MB): open it in a browser", file=sys.stderr)
     return 0

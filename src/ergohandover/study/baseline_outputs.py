@@ -73,25 +73,38 @@ def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list
 
 
 
+def start_numbers(table):
+    """Each row's start, numbered from 1 in the table's order (the paper's)."""
+    return table.groupby(["start_x", "start_y", "start_z"], sort=False).ngroup() + 1
+
+
+def record_start(table, start: int, boundary, evaluator: Evaluator, paths: Path) -> str | None:
+    """One start's scene recording (a page that opens in a browser without Python): the twin
+    at each of its locations, then the robot's carry to the optimised one from ``paths`` (when
+    planned); None when the table has no such start. Needs the viewer extra."""
+    from ..viewer.recording import record_comparison
+
+    rows = table[start_numbers(table) == start]
+    if rows.empty:
+        return None
+    carry = paths / f"start{start}_optimised.csv"
+    return record_comparison(evaluator, boundary, rows, carry if carry.exists() else None)
+
+
 def record(table, boundary, evaluator: Evaluator, paths: Path, folder: Path) -> list[Path]:
-    """A scene recording per start (``start<k>.html``: the twin at each of its locations, then
-    the robot's carry to the optimised one from ``paths``), each a page that opens in a browser
-    without Python; nothing, said in one line, without the viewer extra."""
+    """:func:`record_start` for every start, into ``start<k>.html``; nothing, said in one line,
+    without the viewer extra."""
     import importlib.util
 
     if importlib.util.find_spec("viser") is None:
         print("recordings skipped: the viewer extra is not installed (pip install -e "
               "'.[viewer]')", file=sys.stderr)
         return []
-    from ..viewer.recording import record_comparison, write_recording
+    from ..viewer.recording import write_recording
 
     folder.mkdir(parents=True, exist_ok=True)
-    starts = table.groupby(["start_x", "start_y", "start_z"], sort=False).ngroup() + 1
-    written = []
-    for start in sorted(starts.unique()):
-        carry = paths / f"start{start}_optimised.csv"
-        html = record_comparison(evaluator, boundary, table[starts == start],
-                                 carry if carry.exists() else None)
-        written.append(write_recording(html, folder / f"start{start}.html"))
+    written = [write_recording(record_start(table, start, boundary, evaluator, paths),
+                               folder / f"start{start}.html")
+               for start in sorted(start_numbers(table).unique())]
     print(f"wrote {len(written)} recordings into {folder}", file=sys.stderr)
     return written

@@ -22,7 +22,7 @@ from ..errors import ConfigError
 from ..frames import worker_to_world, world_to_worker
 from ..landscape.cache import Landscape
 from ..scene.world import WorkerPosture
-from ..twin.evaluate import Evaluator, evaluate, joint_angles
+from ..twin.evaluate import Evaluator
 from .cloud import colours, expected_cloud, landscape_cloud
 from .handover import SCORES, HandoverScene, panel_text, read_path
 
@@ -74,7 +74,7 @@ class HandoverViewer:
         self.scene = HandoverScene(evaluator, landscape.grid.boundary, server, gui=gui)
         self.evaluator, self.paths = evaluator, {p.stem: p for p in paths}
         self.carry: pd.DataFrame | None = None
-        self.expected = None  # the cloud's expected scores, once asked for
+        self.clouds = {}  # colouring -> its cloud, made when first shown
         self.carry_posture: WorkerPosture | None = None
         self.playing = False
         controls = server.gui
@@ -138,14 +138,15 @@ class HandoverViewer:
         self.draw_cloud()
 
     def cloud(self, score: str):
-        """The cloud coloured by ``score`` (the expected score's computed once)."""
-        if score != EXPECTED:
-            return landscape_cloud(self.landscape, score)
-        if self.expected is None:
-            with self.lock:
-                self.expected = expected_cloud(landscape_cloud(self.landscape, "paper_postural"),
-                                               self.evaluator, EXPECTED_SD_DEG)
-        return self.expected
+        """The cloud coloured by ``score`` (each made once: the slider only filters it)."""
+        if score not in self.clouds:
+            if score == EXPECTED:
+                with self.lock:  # the twin is solved at every shown cell
+                    self.clouds[score] = expected_cloud(self.cloud("paper_postural"),
+                                                        self.evaluator, EXPECTED_SD_DEG)
+            else:
+                self.clouds[score] = landscape_cloud(self.landscape, score)
+        return self.clouds[score]
 
     def draw_cloud(self) -> None:
         """The landscape's cells scoring at most the slider's value, coloured by the score."""
@@ -184,23 +185,19 @@ class HandoverViewer:
     def load_carry(self, name: str) -> None:
         """Load a path file: the timeline spans it; the worker takes the box at its end."""
         table = read_path(self.paths[name])
-        end = table[["box_x", "box_y", "box_z"]].to_numpy(float)[-1]
-        row = evaluate(end[None], self.evaluator, joints=True)
         with self.lock:
             self.carry = table
-            self.carry_posture = (WorkerPosture(self.scene.names, joint_angles(row)[0])
-                                  if row["feasible"].iloc[0] else None)
+            self.carry_posture = self.scene.handover_posture(table)
         self.timeline.max = float(table["time"].iloc[-1])
         self.timeline.value = 0.0
         self.show_time(0.0)
 
     def show_time(self, t: float) -> None:
-        """The carry at time ``t`` [s] (the last waypoint at or before it)."""
+        """The carry at time ``t`` [s]."""
         if self.carry is None:
             return
-        k = int(np.searchsorted(self.carry["time"].to_numpy(float), t, side="right")) - 1
         with self.lock:
-            self.scene.show_path(self.carry, max(k, 0), self.carry_posture)
+            self.scene.show_time(self.carry, t, self.carry_posture)
 
     def toggle_play(self) -> None:
         if self.carry is None:

@@ -28,6 +28,7 @@ COMPONENTS = {"paper": ("paper_trunk", "paper_neck", "paper_legs", "paper_left_a
                        "reba_score_a", "reba_score_b", "reba_score_c"),
               "RULA": ("rula_trunk", "rula_neck", "rula_legs", "rula_left_upper_arm",
                        "rula_left_lower_arm", "rula_left_wrist", "rula_score_d")}
+BOX = ["box_x", "box_y", "box_z"]  # a path file's box centre, worker frame [m]
 ANGLES = ("trunk_flexion", "trunk_side_bend", "trunk_twist", "neck_flexion",
           "left_upper_arm_flexion", "right_upper_arm_flexion", "left_elbow_flexion",
           "right_elbow_flexion", "left_knee_flexion", "right_knee_flexion")
@@ -101,13 +102,20 @@ class HandoverScene:
     def close(self) -> None:
         self.world.close()
 
+    def evaluation(self, location: np.ndarray) -> tuple[pd.Series, WorkerPosture | None]:
+        """The twin's evaluation at ``location`` (a row of ``evaluate``, joints included) and
+        its solved posture (None where it cannot take the box)."""
+        table = evaluate(np.asarray(location, dtype=float)[None], self.evaluator, joints=True)
+        row = table.iloc[0]
+        return row, (WorkerPosture(self.names, joint_angles(table)[0]) if row["feasible"]
+                     else None)
+
     def solve(self, location) -> Move:
         """The twin at ``location`` (checked against the boundary) and the robot's hold."""
         location = check_location(location, self.boundary)
-        row = evaluate(location[None], self.evaluator, joints=True).iloc[0]
+        row, posture = self.evaluation(location)
         robot = ""
-        if row["feasible"]:
-            posture = WorkerPosture(self.names, joint_angles(row.to_frame().T)[0])
+        if posture is not None:
             self.world.pose_worker(posture)
             if self.with_robot:
                 reach = self.world.reach(location, posture)
@@ -128,17 +136,23 @@ class HandoverScene:
         self.mirror.update()
         return self.last
 
-    def show_path(self, path: pd.DataFrame, k: int, posture: WorkerPosture | None) -> None:
-        """Pose the scene at row ``k`` of a carry's path table (a baselines path file): the
-        box and every robot joint by name; the worker at rest while the box travels and in
-        ``posture`` at the last row (the handover)."""
+    def handover_posture(self, path: pd.DataFrame) -> WorkerPosture | None:
+        """The worker's solved posture where a carry's path ends (None where infeasible)."""
+        return self.evaluation(path[BOX].to_numpy(float)[-1])[1]
+
+    def show_time(self, path: pd.DataFrame, t: float, posture: WorkerPosture | None) -> None:
+        """Pose the scene at time ``t`` [s] of a carry's path table (a baselines path file):
+        its last waypoint at or before ``t``; the box and every robot joint by name; the
+        worker at rest while the box travels and in ``posture`` at the last waypoint (the
+        handover)."""
+        k = max(int(np.searchsorted(path["time"].to_numpy(float), t, side="right")) - 1, 0)
         world, row = self.world, path.iloc[k]
         robot = world.robot
         for name, index in robot.body_joints.items():
             if name in path.columns:
                 world.p.resetJointState(robot.body, index, float(row[name]),
                                         physicsClientId=world.client)
-        world.place_box(row[["box_x", "box_y", "box_z"]].to_numpy(float))
+        world.place_box(row[BOX].to_numpy(float))
         world.pose_worker(posture if k == len(path) - 1 else None)
         self.mirror.update()
 
@@ -149,7 +163,7 @@ def read_path(path: Path) -> pd.DataFrame:
         table = pd.read_csv(path)
     except (OSError, ValueError) as error:
         raise ConfigError(f"path file {path}: cannot be read ({error})") from None
-    missing = [c for c in ("time", "box_x", "box_y", "box_z") if c not in table.columns]
+    missing = [c for c in ("time", *BOX) if c not in table.columns]
     if missing or table.empty:
         raise ConfigError(f"path file {path} is not a carry's path (missing "
                           f"{missing or 'rows'}; expected results/baselines/paths/*.csv)")

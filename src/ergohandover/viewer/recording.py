@@ -12,8 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ..io.atomic import atomic_write
-from ..scene.world import WorkerPosture
-from ..twin.evaluate import Evaluator, evaluate, joint_angles
+from ..twin.evaluate import Evaluator
 from ..twin.task import Boundary
 from .app import free_port, start_server
 from .handover import HandoverScene, read_path
@@ -39,16 +38,11 @@ def record_comparison(evaluator: Evaluator, boundary: Boundary, rows: pd.DataFra
             label.remove()
         if path_file is not None:
             table = read_path(path_file)
-            end = table[["box_x", "box_y", "box_z"]].to_numpy(float)[-1]
-            found = evaluate(end[None], evaluator, joints=True)
-            posture = WorkerPosture(scene.names, joint_angles(found)[0])
-            times = table["time"].to_numpy(float)
-            frames = np.arange(0.0, times[-1] + 1e-9, 1 / CARRY_FPS)
+            posture = scene.handover_posture(table)
             server.scene.add_label("/caption", "carry to the optimised location",
                                    position=(0.0, 0.0, 2.1))
-            for t in frames:
-                k = max(int(np.searchsorted(times, t, side="right")) - 1, 0)
-                scene.show_path(table, k, posture)
+            for t in np.arange(0.0, table["time"].iloc[-1] + 1e-9, 1 / CARRY_FPS):
+                scene.show_time(table, t, posture)
                 recorder.insert_sleep(1 / CARRY_FPS)
             recorder.insert_sleep(HOLD_S)
         return recorder.as_html()
