@@ -62,7 +62,9 @@ def test_the_compiled_kernel_agrees_with_the_numpy_reference_where_the_effort_ho
     low = np.array([[x, y, 0.386] for x in (-0.1, 0.0, 0.1) for y in (0.125, 0.3, 0.5, 0.7)])
     fast, slow = PostureSolver(backend="numba"), PostureSolver(backend="numpy")
     start = np.broadcast_to(fast.strategy_start("semi-squat"), (len(low), fast.model.nq))
-    a, b = fast.iterate(low, start, 150), slow.iterate(low, start, 150)
+    # Far enough for both terms to act; beyond ~90 iterations a rounding difference can tip a
+    # point from one active set to another, after which the two need not agree to 1e-5.
+    a, b = fast.iterate(low, start, 80), slow.iterate(low, start, 80)
     _, res = effort(a.state, EXTRA, fast.strengths, fast.settings.effort_free, fast.hamstring)
     assert (res > 0).all()  # the task is active at every one of these locations
     hip0, slope, _ = fast.hamstring

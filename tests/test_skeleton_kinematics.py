@@ -85,7 +85,8 @@ def test_standing_anatomy_matches_the_segments(model):
     sphere = next(shape for shape in head.shapes if shape.kind == "sphere")
     top = fk.point("head", np.add(sphere.xyz, (0.0, 0.0, sphere.size[0])))[0]
     assert top == pytest.approx([0.0, 0.0, h], abs=1e-3)
-    assert fk.position("gaze")[0] == pytest.approx([s.eye_forward, 0.0, 0.936 * h], abs=1e-3)
+    eyes = s.neck_joint_height + s.neck_length + s.eye_height_above_head_joint
+    assert fk.position("gaze")[0] == pytest.approx([s.eye_forward, 0.0, eyes], abs=1e-3)
     hand = model.skeleton.link("left_hand").shapes[0].size  # (breadth, thickness, length)
     for side, sign in (("left", 1.0), ("right", -1.0)):
         shoulder = fk.position(f"{side}_upper_arm")[0]

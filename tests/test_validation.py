@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from ergohandover.study.validation import CONDITIONS, MEASURES, elbow_height, validation_table
+from ergohandover.study.validation import CONDITIONS, MEASURES, validation_table
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import evaluate
 from ergohandover.twin.task import TaskSpec
@@ -48,7 +48,7 @@ def test_the_twins_values_are_its_evaluated_angles(table):
     trunk = table[table["quantity"].str.startswith("trunk inclination")].iloc[0]
     assert trunk["twin"] == pytest.approx(row["trunk_flexion"])
     below = table[table["quantity"].str.startswith("hand height below elbow")]
-    expected = (elbow_height(BodySpec()) - OPTIMUM[1]) * 100
+    expected = (BodySpec().elbow_height_m - OPTIMUM[1]) * 100
     assert below["twin"].to_numpy() == pytest.approx(np.full(len(below), expected))
     reach = table[table["quantity"].str.startswith("horizontal distance")].iloc[0]
     assert reach["twin"] == pytest.approx(OPTIMUM[2] * 100)

@@ -54,7 +54,10 @@ def twin_code_version() -> str:
     digest = hashlib.sha256()
     for name in MODEL_SOURCES:
         root = PACKAGE / name
-        for path in sorted(root.rglob("*.py")) if root.is_dir() else [root]:
+        # The code and the tables of figures it reads (the fitted body model).
+        files = [p for p in root.rglob("*") if p.suffix in (".py", ".json")] \
+            if root.is_dir() else [root]
+        for path in sorted(files):
             digest.update(path.relative_to(PACKAGE).as_posix().encode())
             digest.update(path.read_bytes())
     return digest.hexdigest()[:16]

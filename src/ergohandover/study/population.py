@@ -144,3 +144,23 @@ def working_heights(below_elbow_cm: np.ndarray) -> pd.DataFrame:
                      "high_cm": c.high, "n": n, "within": within, "share": within / n,
                      "ci_low": low, "ci_high": high})
     return pd.DataFrame(rows)
+
+
+def penalty_regression(penalty: np.ndarray, predictors: dict[str, np.ndarray]) -> list[dict]:
+    """Ordinary least squares ``penalty ~ 1 + predictors``: each term's coefficient, its
+    standard error, 95 % interval and p-value (t, n - terms degrees of freedom); workers
+    without a penalty (the twin cannot take the box there) are left out."""
+    taken = ~np.isnan(penalty)
+    y = penalty[taken]
+    x = np.column_stack([np.ones(taken.sum()), *(v[taken] for v in predictors.values())])
+    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
+    dof = len(y) - x.shape[1]
+    sigma2 = ((y - x @ coef) ** 2).sum() / dof
+    se = np.sqrt(np.diag(sigma2 * np.linalg.pinv(x.T @ x)))
+    t = stats.t.ppf(0.975, dof)
+    rows = []
+    for name, b, s in zip(("intercept", *predictors), coef, se, strict=True):
+        p = 2 * stats.t.sf(abs(b / s), dof) if s > 0 else np.nan
+        rows.append({"term": name, "coef": float(b), "se": float(s), "ci_low": float(b - t * s),
+                     "ci_high": float(b + t * s), "p": float(p), "n": len(y)})
+    return rows

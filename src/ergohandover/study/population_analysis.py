@@ -17,6 +17,7 @@ from .population import (
     line_fit,
     mean_interval,
     one_size_cells,
+    penalty_regression,
     penalty_summary,
     who_pays,
     working_heights,
@@ -37,7 +38,11 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
     sampled = table["reference"].to_numpy() == 0
     reference = int(np.flatnonzero(~sampled)[0])
     workers = table[sampled].reset_index(drop=True)
-    penalties, one_size = [], []
+    penalties, one_size, proportions = [], [], []
+    predictors = {"stature_m": workers["stature_m"].to_numpy(float),
+                  "male": (workers["sex"].to_numpy() == "male").astype(float),
+                  "elbow_ratio": workers["elbow_ratio"].to_numpy(float),
+                  "arm_ratio": workers["arm_ratio"].to_numpy(float)}
     for objective in OBJECTIVES:
         scores = matrices[objective][sampled].astype(float)
         scores[scores < 0] = np.nan
@@ -55,6 +60,8 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
                     **{o: (matrices[o][w, cell] if matrices[o][w, cell] >= 0 else np.nan)
                        for o in OBJECTIVES},
                     "own_optimum": own[w], "penalty": penalty[w]})
+            proportions += [{"objective": objective, "choice": choice, **row}
+                            for row in penalty_regression(penalty, predictors)]
             taken = ~np.isnan(penalty)
             rho, p = stats.spearmanr(workers["stature_m"][taken], penalty[taken]) \
                 if np.ptp(penalty[taken]) > 0 else (np.nan, np.nan)
@@ -71,7 +78,7 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
     for objective in OBJECTIVES:
         for response in ("y", "region_y"):
             height = workers[f"{objective}_{response}"].to_numpy(dtype=float)
-            for predictor in ("stature_m", "elbow_height_m"):
+            for predictor in ("stature_m", "elbow_height_m", "elbow_ratio"):
                 fits.append({"objective": objective, "response": response,
                              "predictor": predictor,
                              **line_fit(workers[predictor].to_numpy(dtype=float), height, rng,
@@ -94,4 +101,5 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
     below_elbow_cm = 100 * (workers["elbow_height_m"] - workers["paper_postural_y"])
     return {"workers": table, "penalties": penalty_table, "one_size": pd.DataFrame(one_size),
             "groups": who_pays(penalty_table, rng, resamples), "height_fit": fits,
-            "working_heights": working_heights(below_elbow_cm.to_numpy(dtype=float))}
+            "working_heights": working_heights(below_elbow_cm.to_numpy(dtype=float)),
+            "proportions": pd.DataFrame(proportions)}

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from ..landscape.cache import Landscape
 from ..landscape.stats import optimum
@@ -228,24 +227,3 @@ def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
             "optimism": float(held_out[c].mean() - in_half[c].mean()),
             "resamples": resamples, "splits": splits})
     return rows
-
-
-def penalty_regression(penalty: np.ndarray, stature_m: np.ndarray,
-                       male: np.ndarray) -> list[dict]:
-    """Ordinary least squares ``penalty ~ 1 + stature + male``: each term's coefficient, its
-    standard error, 95 % interval and p-value (t, n - 3 degrees of freedom)."""
-    taken = ~np.isnan(penalty)
-    y = penalty[taken]
-    x = np.column_stack([np.ones(taken.sum()), stature_m[taken], male[taken]])
-    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
-    dof = len(y) - x.shape[1]
-    sigma2 = ((y - x @ coef) ** 2).sum() / dof
-    se = np.sqrt(np.diag(sigma2 * np.linalg.pinv(x.T @ x)))
-    t = stats.t.ppf(0.975, dof)
-    rows = []
-    for name, b, s in zip(("intercept", "stature_m", "male"), coef, se, strict=True):
-        p = 2 * stats.t.sf(abs(b / s), dof) if s > 0 else np.nan
-        rows.append({"term": name, "coef": float(b), "se": float(s), "ci_low": float(b - t * s),
-                     "ci_high": float(b + t * s), "p": float(p), "n": len(y)})
-    return rows
-

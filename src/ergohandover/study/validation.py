@@ -126,7 +126,7 @@ def locations(evaluator: Evaluator, optimum: np.ndarray) -> dict[str, np.ndarray
             "floor": np.array([0.0, task.box_height / 2.0, near])}
 
 
-def _elevation(row: pd.Series, side: str) -> float:
+def elevation(row: pd.Series, side: str) -> float:
     """Upper-arm elevation from the trunk's downward axis [deg]: flexion is the arm's angle in
     the sagittal plane and abduction its angle out of it, so cos(elevation) is their product."""
     flexion = math.radians(row[f"{side}_upper_arm_flexion"])
@@ -137,21 +137,15 @@ def _elevation(row: pd.Series, side: str) -> float:
 MEASURES = {
     "trunk_inclination": lambda row, body: row["trunk_flexion"],
     "neck_flexion": lambda row, body: row["neck_flexion"],
-    "upper_arm_elevation": lambda row, body: max(_elevation(row, s) for s in ("left", "right")),
+    "upper_arm_elevation": lambda row, body: max(elevation(row, s) for s in ("left", "right")),
     "trunk_side_bend_or_twist": lambda row, body: max(abs(row["trunk_side_bend"]),
                                                       abs(row["trunk_twist"])),
-    "below_elbow_cm": lambda row, body: (elbow_height(body) - row["y"]) * 100.0,
+    "below_elbow_cm": lambda row, body: (body.elbow_height_m - row["y"]) * 100.0,
     "hands_to_ankles_cm": lambda row, body: row["z"] * 100.0,
     "knee_flexion": lambda row, body: row["left_knee_flexion"],
     "lumbar_flexion": lambda row, body: math.degrees(row["q_lumbar_flexion"]),
     "hip_flexion": lambda row, body: math.degrees(row["q_hip_flexion"]),
 }
-
-
-def elbow_height(body: BodySpec) -> float:
-    """Standing elbow height, upper arm hanging [m]."""
-    seg = body.segments()
-    return seg.shoulder_height - seg.upper_arm_length
 
 
 def validation_table(optimum: np.ndarray, evaluator: Evaluator | None = None) -> pd.DataFrame:

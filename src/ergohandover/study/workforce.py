@@ -1,28 +1,23 @@
-"""A sampled workforce: workers drawn from the ANSUR II survey's statistics, each a BodySpec.
+"""A sampled workforce: people drawn from the body model fitted to the ANSUR II survey.
 
-Stature and body mass are drawn jointly per sex: stature normal, mass log-normal (the same
-mean and SD as the survey's, as the named percentiles are made in
-:mod:`~ergohandover.twin.anthropometry`), the two tied by the survey's correlation between
-stature and log-mass. A draw outside the body model's valid range (stature 1.40-2.10 m, mass
-35-160 kg) is drawn again, so the workforce is the survey's distribution truncated to the
-model's range. The sex mix is exact: ``round(size * female_share)`` women, in random order.
+Each worker is a whole body: stature, mass and every landmark the survey measures, drawn
+jointly per sex from the fitted multivariate normal (:meth:`BodySpec.sample`), so proportions
+(elbow height or arm length for a given stature) vary between people as they do in the survey.
+A draw outside the body model's valid range (stature 1.40-2.10 m, mass 35-160 kg) or whose
+landmarks are out of anatomical order is drawn again. The sex mix is exact:
+``round(size * female_share)`` women, in random order.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
 from ..errors import ConfigError
-from ..twin.anthropometry import ANSUR2, MASS_RANGE_KG, STATURE_RANGE_M, BodySpec
-
-STATURE_MASS_CORRELATION = {"male": 0.471, "female": 0.539}
-"""Pearson correlation of stature and log body weight in ANSUR II, per sex: computed from the
-survey's public data files (4,082 men, 1,986 women; columns ``stature``, ``weightkg``); on
-plain weight it is 0.469 and 0.533 (``docs/population.md``)."""
+from ..twin.anthropometry import BodySpec
+from ..twin.body_model import MEASUREMENTS
 
 
 @dataclass(frozen=True)
@@ -35,7 +30,7 @@ class Workforce:
         female_share: share of women, 0-1.
     """
 
-    size: int = 40
+    size: int = 100
     seed: int = 2027
     female_share: float = 0.5
 
@@ -52,43 +47,50 @@ class Workforce:
             raise ConfigError(f"female_share = {share!r} is outside the valid range 0-1")
 
 
-def _draw(rng: np.random.Generator, sex: str, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """``n`` (stature [m], mass [kg]) of one sex, within the body model's range."""
-    h_mean, h_sd, m_mean, m_sd = ANSUR2[sex]
-    rho = STATURE_MASS_CORRELATION[sex]
-    sigma = math.sqrt(math.log(1.0 + (m_sd / m_mean) ** 2))
-    mu = math.log(m_mean) - 0.5 * sigma**2
-    stature, mass = np.empty(n), np.empty(n)
-    missing = np.arange(n)
-    while missing.size:
-        z = rng.standard_normal((missing.size, 2))
-        h = h_mean + h_sd * z[:, 0]
-        m = np.exp(mu + sigma * (rho * z[:, 0] + math.sqrt(1.0 - rho**2) * z[:, 1]))
-        # The survey's resolution (1 mm, 0.1 kg), as the named percentiles.
-        stature[missing], mass[missing] = np.round(h, 3), np.round(m, 1)
-        valid = ((stature[missing] >= STATURE_RANGE_M[0]) & (stature[missing] <= STATURE_RANGE_M[1])
-                 & (mass[missing] >= MASS_RANGE_KG[0]) & (mass[missing] <= MASS_RANGE_KG[1]))
-        missing = missing[~valid]
-    return stature, mass
+LANDMARKS = ("elbow_height_m", "elbow_joint_height_m", "shoulder_height_m", "arm_length_m",
+             "hip_height_m", "knee_height_m")
+"""The landmarks written beside each worker, with ``elbow_ratio`` and ``arm_ratio`` (elbow
+height and arm length over stature): the proportions the penalty is analysed against."""
 
 
 def sample_workforce(workforce: Workforce) -> pd.DataFrame:
     """The workers of ``workforce``: ``worker`` (w001, ...), ``sex``, ``stature_m``,
-    ``mass_kg``, in draw order; the same seed gives the same workers."""
+    ``mass_kg`` and every measurement of the body model, in draw order; the same seed gives
+    the same workers."""
     rng = np.random.default_rng(workforce.seed)
     women = round(workforce.size * workforce.female_share)
     sexes = rng.permutation(np.array(["female"] * women + ["male"] * (workforce.size - women)))
-    stature, mass = np.empty(workforce.size), np.empty(workforce.size)
+    people: list = [None] * workforce.size
     for sex in ("female", "male"):
         rows = np.flatnonzero(sexes == sex)
-        stature[rows], mass[rows] = _draw(rng, sex, rows.size)
+        for row, body in zip(rows, BodySpec.sample(rows.size, sex, rng), strict=True):
+            people[row] = body
     width = len(str(workforce.size))
-    return pd.DataFrame({"worker": [f"w{i + 1:0{max(width, 3)}d}" for i in range(workforce.size)],
-                         "sex": sexes, "stature_m": stature, "mass_kg": mass})
+    table = pd.DataFrame([{"stature_m": b.stature_m, "mass_kg": b.mass_kg,
+                           **dict(b.measurements)} for b in people])
+    table.insert(0, "sex", sexes)
+    table.insert(0, "worker", [f"w{i + 1:0{max(width, 3)}d}" for i in range(workforce.size)])
+    return table
+
+
+def landmark_columns(people: list[BodySpec]) -> pd.DataFrame:
+    """Each body's :data:`LANDMARKS` and proportions [m, 1], rounded to 0.1 mm and 1e-5."""
+    marks = pd.DataFrame([{name: b.landmarks()[name] for name in LANDMARKS} for b in people])
+    stature = np.array([b.stature_m for b in people])
+    return pd.concat([marks.round(4), pd.DataFrame({
+        "elbow_ratio": (marks["elbow_height_m"] / stature).round(5),
+        "arm_ratio": (marks["arm_length_m"] / stature).round(5)})], axis=1)
 
 
 def bodies(workers: pd.DataFrame) -> list[BodySpec]:
-    """A BodySpec per row of :func:`sample_workforce`."""
-    return [BodySpec(float(r.stature_m), float(r.mass_kg), str(r.sex))
-            for r in workers.itertuples()]
-
+    """A BodySpec per row of :func:`sample_workforce`: its own measurements where the row has
+    them; the reference worker (``reference`` = 1) is sized by the body model from stature and
+    mass."""
+    names = [n for n in MEASUREMENTS if n not in ("stature_m", "mass_kg") and n in workers]
+    out = []
+    for row in workers.to_dict("records"):
+        given = {} if row.get("reference", 0) == 1 else \
+            {n: float(row[n]) for n in names if pd.notna(row[n])}
+        out.append(BodySpec(float(row["stature_m"]), float(row["mass_kg"]), str(row["sex"]),
+                            tuple(sorted(given.items()))))
+    return out

@@ -1,12 +1,12 @@
-"""Body size of the simulated worker: stature, mass, segment lengths, masses and joint limits.
+"""Body size of the simulated worker: stature, mass, landmarks, segment masses and joint limits.
 
-Everything scales from two numbers, stature and mass, with published population ratios, so a
-worker of any size in the valid range gets a consistent body. Sources and every ratio are listed
-in ``docs/anthropometry.md``; the short form is:
+A body is stature, mass and sex, plus whatever else of the person is measured; everything not
+measured is filled in by the body model fitted to the ANSUR II survey (:mod:`.body_model`), and
+:mod:`.proportions` turns the landmarks into segments. Sources are listed in
+``docs/anthropometry.md``; the short form is:
 
-* percentiles: ANSUR II (Gordon et al. 2014, NATICK/TR-15/007), US Army 2012;
-* segment lengths: Drillis & Contini (1966) fractions of stature as tabulated by Winter (2009),
-  plus a few landmarks that source lacks (lumbar, neck and head joints), which are estimates;
+* landmarks and percentiles: ANSUR II (Gordon et al. 2014, NATICK/TR-15/007), US Army 2012;
+  the earlier fixed ratios (Drillis & Contini 1966 via Winter 2009) remain as an option;
 * segment masses and centres of mass: Dempster via Winter (2009) Table 4.1;
 * joint ranges of motion: AAOS (1965) norms, with Kapandji for the spine's own share.
 
@@ -17,10 +17,23 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 from statistics import NormalDist
 
+import numpy as np
+
 from ..errors import ConfigError
+from .body_model import body_model, known_names, survey_rounding
+from .proportions import (
+    PROPORTIONS,
+    disorder,
+    in_order,
+    ratio_landmarks,
+    segment_sizes,
+    survey_landmarks,
+)
 
 STATURE_RANGE_M = (1.40, 2.10)
 MASS_RANGE_KG = (35.0, 160.0)
@@ -63,55 +76,6 @@ def _percentile_table() -> dict[str, tuple[float, float, str]]:
 
 PERCENTILES: dict[str, tuple[float, float, str]] = _percentile_table()
 """Named percentile -> (stature [m], mass [kg], sex)."""
-
-_NECK = 0.855  # estimate: C7/T1 a little below the cervicale skin landmark (~0.86-0.87)
-_HEAD_JOINT = 0.914  # estimate: atlanto-occipital joint ~0.012 below the ear canal
-# Each vertical segment, bottom to top, with the height of its upper end above the floor
-# [fraction of stature], standing. Lengths are differences of consecutive heights, so the chain
-# sums to stature by construction.
-_VERTICAL = (
-    ("ankle_height", 0.039),  # ankle joint: Drillis & Contini / Winter
-    ("shank_length", 0.285),  # knee joint: Drillis & Contini / Winter
-    ("thigh_length", 0.530),  # hip joint: D&C / Winter greater trochanter, taken as the joint
-    ("pelvis_height", 0.585),  # estimate: L5/S1 about one vertebra below the iliac crests
-    ("trunk_length", _NECK),
-    ("neck_length", _HEAD_JOINT),
-    ("head_height", 1.000),  # vertex
-)
-_SHOULDER = 0.818  # Drillis & Contini / Winter: shoulder level, used as the shoulder joint
-_EYE = 0.936  # Drillis & Contini / Winter
-_EAR_CANAL = 0.926  # eye level minus ~0.010: tragion and orbitale share the Frankfort plane
-_HAND = 0.108  # Drillis & Contini / Winter: wrist to fingertip
-_FOOT = 0.152  # Drillis & Contini / Winter
-_SHOULDER_WIDTH = 0.210  # estimate: biacromial ~0.226 minus the joint centres' inset
-
-# Segment sizes that are not on the vertical chain, as fractions of stature.
-_OTHER_FRACTIONS = {
-    "shoulder_drop": _NECK - _SHOULDER,
-    "eye_height_above_head_joint": _EYE - _HEAD_JOINT,
-    "eye_forward": 0.050,  # estimate: cornea ~9 cm in front of the occipital condyles
-    "hip_width": 0.095,  # estimate after Bell et al. (1990): hip centres ~0.36 IAD from midline
-    "shoulder_width": _SHOULDER_WIDTH,
-    "clavicle_length": _SHOULDER_WIDTH / 2.0,
-    "upper_arm_length": 0.186,  # Drillis & Contini / Winter
-    "forearm_length": 0.146,  # Drillis & Contini / Winter
-    "hand_length": _HAND,
-    "grip_offset": 0.40 * _HAND,  # estimate: a fist closes round a handle ~0.4 down the hand
-    "foot_length": _FOOT,
-    "foot_width": 0.055,  # Drillis & Contini / Winter
-    "heel_to_ankle": 0.22 * _FOOT,  # estimate: malleoli ~1/5 of the foot from the heel
-    # Collision/visual sizes. Widths are kept below the real chest and hip breadths so that
-    # hanging arms clear the trunk and pelvis shapes and the thighs clear the hands.
-    "trunk_depth": 0.130,  # ~chest depth (ANSUR ~0.14)
-    "trunk_width": 0.150,
-    "pelvis_width": 0.160,  # Winter's hip breadth is 0.191; narrowed as said above
-    "head_radius": 0.052,  # head circumference ~0.325 of stature / 2 pi
-    "upper_arm_radius": 0.026,
-    "forearm_radius": 0.020,
-    "thigh_radius": 0.036,
-    "shank_radius": 0.028,
-}
-
 
 @dataclass(frozen=True)
 class Segments:
@@ -198,7 +162,7 @@ _MASS = {
     "thigh": (0.100, 0.433),
     "pelvis": (0.142, 1.0 - 0.105),
     "trunk": (0.355, 1.0 - 0.63),
-    "head_neck": (0.081, (_EAR_CANAL - _NECK) / (1.0 - _NECK)),
+    "head_neck": (0.081, (0.926 - 0.855) / (1.0 - 0.855)),  # ear canal 0.926, C7/T1 0.855
     "upper_arm": (0.028, 0.436),
     "forearm": (0.016, 0.430),
     "hand": (0.006, 0.40),
@@ -274,13 +238,19 @@ class BodySpec:
     Attributes:
         stature_m: Standing height [m], 1.40-2.10.
         mass_kg: Body mass [kg], 35-160.
-        sex: "male" or "female"; it selects percentiles only, since the ratio sources used for
-            lengths, masses and joint limits do not distinguish sex.
+        sex: "male" or "female": the survey's model of that sex fills in what is not measured.
+        measurements: The person's own measurements beyond stature and mass, as sorted
+            ``(name, value)`` pairs in metres (names: :func:`~.body_model.known_names`); any
+            landmark not given is the body model's mean given the ones that are.
+        proportions: "ansur2" (landmarks from the survey's body model) or "drillis-contini"
+            (the earlier twin: every length a fixed fraction of stature; no measurements).
     """
 
     stature_m: float = PERCENTILES["p50-male"][0]
     mass_kg: float = PERCENTILES["p50-male"][1]
     sex: str = "male"
+    measurements: tuple[tuple[str, float], ...] = ()
+    proportions: str = "ansur2"
 
     def __post_init__(self) -> None:
         """Validate the fields so that an impossible body fails here, not deep in a simulation."""
@@ -290,6 +260,23 @@ class BodySpec:
             raise BodySpecError(
                 f"sex = {self.sex!r} is not valid; the valid values are {', '.join(SEXES)}"
             )
+        if self.proportions not in PROPORTIONS:
+            raise BodySpecError(f"proportions = {self.proportions!r} is not valid; the valid "
+                                f"values are {', '.join(PROPORTIONS)}")
+        if self.measurements and self.proportions != "ansur2":
+            raise BodySpecError(f"proportions = {self.proportions!r} takes no measurements "
+                                "(its lengths are fractions of stature); use ansur2")
+        check_measurements(dict(self.measurements), self.sex)
+        marks = landmarks_of(self)
+        for name, value in self.measurements:
+            if abs(marks[name] - value) > 0.001:  # redundant measurements that disagree
+                raise BodySpecError(f"{name} = {value!r} disagrees with the other measurements "
+                                    f"(they make it {marks[name]:.3f} m)")
+        order = disorder(marks)
+        if order:
+            lower, upper = order
+            raise BodySpecError(f"{lower} = {marks[lower]:.3f} m is not below {upper} = "
+                                f"{marks[upper]:.3f} m: the measurements do not fit one body")
 
     @classmethod
     def from_percentile(cls, name: str) -> BodySpec:
@@ -299,7 +286,8 @@ class BodySpec:
             name: One of the keys of ``PERCENTILES``.
 
         Returns:
-            The body with that percentile's stature [m], mass [kg] and sex.
+            The body with that percentile's stature [m], mass [kg] and sex; its other
+            landmarks are the body model's means given those.
 
         Raises:
             BodySpecError: If the name is unknown; the message lists the valid names.
@@ -311,14 +299,78 @@ class BodySpec:
         stature, mass, sex = PERCENTILES[name]
         return cls(stature_m=stature, mass_kg=mass, sex=sex)
 
+    @classmethod
+    def from_measurements(cls, measurements: Mapping[str, float], sex: str = "male") -> BodySpec:
+        """A person's body from whatever of their measurements are known [m, kg].
+
+        Stature and mass, if missing, are the body model's means given the rest (rounded to
+        the survey's 1 mm and 0.1 kg); so is every landmark not given.
+
+        Raises:
+            BodySpecError: an unknown name, a value that is not a plausible length, or values
+                that do not fit one body (an elbow above the shoulder); one line.
+        """
+        if sex not in SEXES:
+            raise BodySpecError(f"sex = {sex!r} is not valid; the valid values are "
+                                f"{', '.join(SEXES)}")
+        given = dict(measurements)
+        check_measurements(given, sex, fields=True)
+        if "stature_m" not in given or "mass_kg" not in given:
+            model = body_model()[sex]
+            filled = dict(zip(model.names, model.conditional(given), strict=True))
+            given.setdefault("stature_m", round(float(filled["stature_m"]), 3))
+            given.setdefault("mass_kg", round(float(filled["mass_kg"]), 1))
+        stature, mass = float(given.pop("stature_m")), float(given.pop("mass_kg"))
+        return cls(stature, mass, sex, tuple(sorted((k, float(v)) for k, v in given.items())))
+
+    @classmethod
+    def sample(cls, n: int, sex: str, rng: np.random.Generator) -> list[BodySpec]:
+        """``n`` people of one sex drawn from the survey's body model, every measurement
+        their own (rounded to 1 mm and 0.1 kg). A draw outside the model's valid range
+        (stature, mass) or whose landmarks are out of anatomical order is drawn again."""
+        model = body_model()[sex]
+        rows = np.empty((0, len(model.names)))
+        while len(rows) < n:
+            draws = model.sample(n - len(rows), rng)
+            draws = survey_rounding(draws, model.names)
+            columns = dict(zip(model.names, draws.T, strict=True))
+            keep = in_order(survey_landmarks(columns))
+            for name, valid in (("stature_m", STATURE_RANGE_M), ("mass_kg", MASS_RANGE_KG)):
+                keep &= (columns[name] >= valid[0]) & (columns[name] <= valid[1])
+            rows = np.vstack([rows, draws[keep]])
+        return [cls.from_measurements(dict(zip(model.names, map(float, row), strict=True)), sex)
+                for row in rows]
+
+    def landmarks(self) -> dict[str, float]:
+        """Every landmark height and length of this body [m] (mass [kg]): the measurements,
+        the derived quantities (``elbow_height_m``, ``arm_length_m``, ...) and the joints."""
+        return dict(landmarks_of(self))
+
+    @property
+    def elbow_height_m(self) -> float:
+        """Standing elbow height [m]: floor to the underside of the elbow, as ergonomics uses
+        it (the earlier twin: its elbow joint)."""
+        return landmarks_of(self)["elbow_height_m"]
+
+    @property
+    def elbow_joint_height_m(self) -> float:
+        """Floor to the elbow joint, arm hanging [m]."""
+        return landmarks_of(self)["elbow_joint_height_m"]
+
+    @property
+    def shoulder_height_m(self) -> float:
+        """Floor to the shoulder joint (the acromion) [m]."""
+        return landmarks_of(self)["shoulder_height_m"]
+
+    @property
+    def arm_length_m(self) -> float:
+        """Shoulder joint to wrist, arm hanging [m]."""
+        return landmarks_of(self)["arm_length_m"]
+
     def segments(self) -> Segments:
-        """Segment lengths and shape sizes [m], all proportional to stature."""
-        h = self.stature_m
-        tops = [top for _, top in _VERTICAL]
-        bottoms = [0.0, *tops[:-1]]
-        vertical = {n: (t - b) * h for (n, t), b in zip(_VERTICAL, bottoms, strict=True)}
-        other = {n: f * h for n, f in _OTHER_FRACTIONS.items()}
-        return Segments(**vertical, **other)
+        """Segment lengths and shape sizes [m] from this body's landmarks."""
+        sizes = segment_sizes(landmarks_of(self))
+        return Segments(**{name: float(value) for name, value in sizes.items()})
 
     def segment_masses(self) -> dict[str, SegmentMass]:
         """Mass [kg] and COM fraction of each segment; paired ones are per side.
@@ -355,3 +407,39 @@ class BodySpec:
         for side in ("left", "right"):
             limits.update({f"{side}_{n}": lim for n, lim in _ARM_LIMITS.items()})
         return limits
+
+
+PLAUSIBLE_SDS = 6.0
+"""A measurement further than this many SDs from its sex's survey mean is refused."""
+
+
+def check_measurements(given: dict, sex: str, fields: bool = False) -> None:
+    """Raise BodySpecError on an unknown name or an implausible value (one line).
+
+    Stature and mass are fields of BodySpec, so they are measurements only when ``fields``.
+    """
+    model = body_model()[sex]
+    for name, value in given.items():
+        if fields and name == "stature_m":
+            _check_range(name, value, STATURE_RANGE_M, "m")
+            continue
+        if fields and name == "mass_kg":
+            _check_range(name, value, MASS_RANGE_KG, "kg")
+            continue
+        if name not in known_names() or name in ("stature_m", "mass_kg"):
+            allowed = [n for n in known_names() if fields or n not in ("stature_m", "mass_kg")]
+            raise BodySpecError(f"{name} is not a known measurement; the known ones are "
+                                f"{', '.join(allowed)}")
+        lo, hi = model.value_range(name, PLAUSIBLE_SDS)
+        _check_range(name, value, (max(lo, 0.0), hi), "m")
+
+
+@lru_cache(maxsize=4096)
+def landmarks_of(body: BodySpec) -> dict[str, float]:
+    """The landmarks of ``body`` (cached: bodies are immutable); callers must not mutate."""
+    if body.proportions == "drillis-contini":
+        return ratio_landmarks(body.stature_m)
+    given = {"stature_m": body.stature_m, "mass_kg": body.mass_kg, **dict(body.measurements)}
+    model = body_model()[body.sex]
+    values = dict(zip(model.names, map(float, model.conditional(given)), strict=True))
+    return {name: float(v) for name, v in survey_landmarks(values).items()}

@@ -1,15 +1,16 @@
 """Study part `population`: one handover location for everyone, or one per worker?
 
-A workforce is drawn from the ANSUR II survey's statistics (size, seed and sex mix in the
-configuration); every worker, and the reference worker (the 50th-percentile man), gets a
-landscape on one shared grid, swept through the study's engine: the local process pool or Ray.
-Landscapes stream into the landscape cache as they finish, so a killed run resumes without
-redoing finished workers.
+A workforce is drawn from the body model fitted to the ANSUR II survey (size, seed and sex mix
+in the configuration): whole bodies whose proportions vary as people's do. Every worker, and the
+reference worker (the 50th-percentile man), gets a landscape on one shared grid, swept through
+the study's engine: the local process pool or Ray. Landscapes stream into the landscape cache
+as they finish, so a killed run resumes without redoing finished workers.
 
 Writes results/population/:
-  workers.csv     each worker's body, elbow height, own optimum per objective (paper score,
-                  REBA, RULA: score, location, how many cells share it, the median height of
-                  those cells, the optimum's distance from the height-against-stature line)
+  workers.csv     each worker's body (every measurement), landmarks and proportions, own
+                  optimum per objective (paper score, REBA, RULA: score, location, how many
+                  cells share it, the median height of those cells, the optimum's distance
+                  from the height-against-stature line)
                   and whether the default robot can hold the box at the paper-score optimum
   penalties.csv   each worker at each one-size location (the reference's optimum, the lowest
                   mean, the lowest 95th percentile): the three scores there and the penalty
@@ -20,11 +21,17 @@ Writes results/population/:
                   slope interval) and its offset from elbow height
   working_heights.csv  how many workers' optima (paper score) lie in each published range of
                   standing working height below the elbow (the validation's sources)
+  proportions.csv  penalty at each one-size location against stature, sex and proportions
+                  (elbow height / stature, arm length / stature): least squares, each term's
+                  coefficient, 95 % interval and p-value
+  earlier_twin.csv  the reference worker's optimum per objective sized by the survey's body
+                  model and by the earlier twin's fixed ratios of stature
   manifest.json
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from pathlib import Path
 
@@ -44,21 +51,40 @@ from ..engines import Engine
 from ..population_analysis import OBJECTIVES, analyse
 from ..reachability import holds
 from ..resume import run_part
-from ..validation import elbow_height
-from ..workforce import Workforce, bodies, sample_workforce
-from .shared import grid_of, where
+from ..workforce import Workforce, bodies, landmark_columns, sample_workforce
+from .shared import grid_of, landscape, where
 
 
 def workforce_of(part: PopulationConfig) -> pd.DataFrame:
-    """The sampled workers and, last, the reference worker, with their elbow heights."""
+    """The sampled workers (their measurements) and, last, the reference worker (sized by the
+    body model from stature and mass), with their landmarks and proportions."""
     table = sample_workforce(Workforce(part.size, part.seed, part.female_share))
     table["reference"] = 0
     reference = BodySpec.from_percentile(part.reference)
     table.loc[len(table)] = {"worker": part.reference, "sex": reference.sex,
                              "stature_m": reference.stature_m, "mass_kg": reference.mass_kg,
                              "reference": 1}
-    table["elbow_height_m"] = [round(elbow_height(b), 6) for b in bodies(table)]
-    return table
+    return pd.concat([table, landmark_columns(bodies(table))], axis=1)
+
+
+def earlier_twin(grid: Grid, reference: Evaluator, engine: Engine) -> pd.DataFrame:
+    """The reference worker's optimum per objective, sized by the survey's body model and by
+    the earlier twin's fixed ratios of stature (Drillis & Contini), on the population's grid."""
+    twins = {"ansur2": reference, "drillis-contini": dataclasses.replace(
+        reference, body=dataclasses.replace(reference.body, proportions="drillis-contini"))}
+    rows = []
+    for name, evaluator in twins.items():
+        found = landscape(engine, evaluator, grid)
+        for objective in OBJECTIVES:
+            cells, best = optimum(found, objective)
+            rows.append({"proportions": name, "objective": objective,
+                         "elbow_height_m": round(evaluator.body.elbow_height_m, 4),
+                         "elbow_joint_height_m": round(evaluator.body.elbow_joint_height_m, 4),
+                         "optimum": int(found.arrays[objective][cells[0]]),
+                         **{a: round(float(best[k]), 6) for k, a in enumerate("xyz")},
+                         "cells": len(cells),
+                         "region_y": round(float(np.median(grid.coordinates(cells)[:, 1])), 6)})
+    return pd.DataFrame(rows)
 
 
 def sweep_scores(grid: Grid, evaluators: list[Evaluator],
@@ -113,7 +139,9 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         matrices, optima, sweep = sweep_scores(grid, evaluators, engine)
         table = pd.concat([table, optima], axis=1)
         table = pd.concat([table, robot_serves(table, evaluators, engine.workers)], axis=1)
-        for name, frame in analyse(table, matrices, grid, part).items():
+        tables = analyse(table, matrices, grid, part)
+        tables["earlier_twin"] = earlier_twin(grid, evaluators[-1], engine)
+        for name, frame in tables.items():
             atomic_write_csv(frame, folder / f"{name}.csv")
         return {"grid": grid.describe(), **sweep}
 

@@ -51,7 +51,6 @@ from ..robustness import (
     robust_recommendation,
     search_seed,
 )
-from ..validation import elbow_height
 from . import baselines as baselines_part
 from . import participants as participants_part
 from . import population as population_part
@@ -157,7 +156,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                                                 engine.workers)
         margin = largest_margin(landscape, evaluator, ROBUST_SCORE, part.stride,
                                 workers=engine.workers)
-        practice = practice_location(evaluator, elbow_height(evaluator.body))
+        practice = practice_location(evaluator, evaluator.body.elbow_height_m)
         named = headline_locations(results, nominal, robust.location, margin.location,
                                    practice)
         tables = posture_tables(named, config, part, [np.random.default_rng(s) for s in

@@ -15,18 +15,16 @@ from ...twin.evaluate import Evaluator, evaluate
 from ..config import StudyConfig
 from ..engines import Engine
 from ..participants import DEFAULT_WORKER
-from ..population import CHOICES, one_size_cells
+from ..population import CHOICES, one_size_cells, penalty_regression
 from ..robustness import (
     bootstrap_mean,
     own_minimum,
-    penalty_regression,
     practice_location,
     regret_rows,
     robust_pair,
     without_optimism,
 )
 from ..sensitivity import variants
-from ..validation import elbow_height
 from ..workforce import bodies
 from .population import workforce_of
 from .shared import default_landscape, grid_of, landscapes
@@ -127,9 +125,10 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         for choice in CHOICES:
             penalty = scores[:, chosen[objective][choice]] - own
             regression += [{"objective": objective, "choice": choice, **row}
-                           for row in penalty_regression(
-                               penalty, table["stature_m"].to_numpy(float)[sampled],
-                               (table["sex"].to_numpy()[sampled] == "male").astype(float))]
+                           for row in penalty_regression(penalty, {
+                               "stature_m": table["stature_m"].to_numpy(float)[sampled],
+                               "male": (table["sex"].to_numpy()[sampled] == "male")
+                               .astype(float)})]
     regret, personal, expected = [], [], []
     recs = recommendations[["x", "y", "z"]].to_numpy(float)
     for w in tqdm(sampled, desc="workers: regret, robust optima", unit="worker"):
@@ -143,7 +142,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         locations = np.stack([
             [pair["nominal_x"], pair["nominal_y"], pair["nominal_z"]],
             *(points[chosen["paper_postural"][c]] for c in CHOICES),
-            practice_location(evaluator, elbow_height(evaluator.body))])
+            practice_location(evaluator, evaluator.body.elbow_height_m)])
         posture, feasible = postures_at(locations, evaluator)
         row = []
         for sd in POPULATION_SDS:

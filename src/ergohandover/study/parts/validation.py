@@ -8,8 +8,11 @@ boundary's lowest row, at knee height.
 Writes results/validation/validation.csv (one row per published condition: source, condition,
 quantity, published mean, SD, the range checked, the box location, the twin's value, within),
 results/validation/knee_height.csv (per worker and location: ankle, knee, hip and lumbar flexion
-[deg] and the postural index) and manifest.json. The conditions and their citations are in
-src/ergohandover/study/validation.py.
+[deg] and the postural index), results/validation/handovers.csv (the twin where people received
+an object in measured handovers: per handover, placement and quantity the receiver's angle and
+the twin's, and the twin's scores there beside its own optimum; see
+src/ergohandover/study/handover_validation.py) and manifest.json. The conditions and their
+citations are in src/ergohandover/study/validation.py.
 """
 
 from __future__ import annotations
@@ -20,10 +23,15 @@ from ...io.atomic import atomic_write_csv
 from ...landscape.stats import optimum
 from ..config import StudyConfig
 from ..engines import Engine
+from ..handover_validation import handover_table, receiver_twin, twin_description
 from ..resume import run_part
 from ..validation import knee_height_postures, validation_table
 from . import landscape as landscape_part
-from .shared import default_landscape
+from .shared import default_landscape, grid_of, landscape
+
+HANDOVER_STEP_M = 0.01
+"""The receiver twin's landscape grid (the population's step): its optimum and how many of
+its locations score better than where people took the object."""
 
 
 def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
@@ -41,7 +49,16 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         print(f"  knee height: knee {knees['knee_flexion'].min():.0f}-"
               f"{knees['knee_flexion'].max():.0f} deg, hip {knees['hip_flexion'].min():.0f}-"
               f"{knees['hip_flexion'].max():.0f} deg over {knees['worker'].nunique()} workers")
-        return {"conditions": len(table), "within": within,
+        twin = receiver_twin(config.task())
+        handovers = handover_table(twin, landscape(engine, twin, grid_of(
+            twin, config.landscape.boundary, HANDOVER_STEP_M)))
+        atomic_write_csv(handovers, folder / "handovers.csv")
+        angles = handovers[handovers["measured"].notna()]
+        print(f"  measured handovers: {handovers['handover'].nunique()}, the twin's angles "
+              f"{angles['difference'].abs().min():.0f}-{angles['difference'].abs().max():.0f} "
+              "deg from the receivers'")
+        return {"conditions": len(table), "within": within, "handover_twin":
+                twin_description(twin), "handover_step_m": HANDOVER_STEP_M,
                 "sources": int(table["source"].nunique()),
                 "knee_height_locations": len(knees)}
 
