@@ -116,22 +116,44 @@ def test_landmark_heights_follow_the_chain_and_are_ordered():
     )
     assert seg.shoulder_height == pytest.approx(seg.neck_joint_height - seg.shoulder_drop)
     assert seg.hip_height < seg.shoulder_height < seg.neck_joint_height < spec.stature_m
-    # Drillis & Contini put the hip at 0.530 and the shoulder at 0.818 of stature.
+    # The survey's landmarks: trochanterion and acromion, the model's means given stature and
+    # mass (ANSUR II men: 0.513 and 0.820 of stature on average).
+    marks = spec.landmarks()
+    assert seg.hip_height == pytest.approx(marks["hip_height_m"])
+    assert seg.shoulder_height == pytest.approx(marks["shoulder_height_m"])
+    assert 0.50 < seg.hip_height / spec.stature_m < 0.525
+    assert 0.81 < seg.shoulder_height / spec.stature_m < 0.83
+
+
+def test_the_earlier_twins_fixed_ratios_remain_an_option():
+    spec = BodySpec(proportions="drillis-contini")
+    seg = spec.segments()
+    # Drillis & Contini put the hip at 0.530 and the shoulder at 0.818 of stature, the elbow
+    # joint at 0.632.
     assert seg.hip_height == pytest.approx(0.530 * spec.stature_m)
     assert seg.shoulder_height == pytest.approx(0.818 * spec.stature_m)
+    assert spec.elbow_height_m == pytest.approx(0.632 * spec.stature_m)
 
 
-def test_lengths_scale_linearly_with_stature():
-    small = BodySpec(stature_m=1.5, mass_kg=70.0).segments()
-    tall = BodySpec(stature_m=1.8, mass_kg=70.0).segments()
+def test_fixed_ratio_lengths_scale_linearly_with_stature():
+    small = BodySpec(stature_m=1.5, mass_kg=70.0, proportions="drillis-contini").segments()
+    tall = BodySpec(stature_m=1.8, mass_kg=70.0, proportions="drillis-contini").segments()
     for name, value in _sizes(small).items():
         assert getattr(tall, name) == pytest.approx(1.2 * value, rel=1e-12), name
     for prop in PROPERTIES:
         assert getattr(tall, prop) == pytest.approx(1.2 * getattr(small, prop), rel=1e-12)
 
 
-def test_mass_does_not_change_lengths():
-    assert BodySpec(mass_kg=50.0).segments() == BodySpec(mass_kg=150.0).segments()
+def test_mass_widens_the_hips_but_moves_the_joints_by_centimetres_at_most():
+    light, heavy = BodySpec(mass_kg=60.0).segments(), BodySpec(mass_kg=120.0).segments()
+    # Heavier men of the same stature have broader hips and higher (bulkier) shoulders in the
+    # survey; their joint heights differ by less than 3 cm between 60 and 120 kg.
+    assert heavy.hip_width > light.hip_width + 0.03
+    assert heavy.shoulder_height > light.shoulder_height
+    for prop in PROPERTIES:
+        assert abs(getattr(heavy, prop) - getattr(light, prop)) < 0.03, prop
+    assert BodySpec(mass_kg=50.0, proportions="drillis-contini").segments() == \
+        BodySpec(mass_kg=150.0, proportions="drillis-contini").segments()
 
 
 def test_derived_widths_match_their_definitions():

@@ -118,6 +118,8 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     workers = pd.read_csv(RESULTS / "population" / "workers.csv")
     one_size = pd.read_csv(RESULTS / "population" / "one_size.csv")
     groups = pd.read_csv(RESULTS / "population" / "groups.csv")
+    proportions = pd.read_csv(RESULTS / "population" / "proportions.csv")
+    twins = pd.read_csv(RESULTS / "population" / "earlier_twin.csv")
     rows = {}
 
     postural = stats.loc["paper_postural"]
@@ -207,13 +209,22 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
                     & (one_size["choice"] == "mean")].iloc[0]
     sex = groups[(groups["objective"] == "paper_postural") & (groups["choice"] == "reference")
                  & (groups["by"] == "sex")].set_index("group")["mean_penalty"]
+    male = proportions[(proportions["objective"] == "paper_postural")
+                       & (proportions["choice"] == "reference")
+                       & (proportions["term"] == "male")].iloc[0]
+    shift = twins.pivot(index="objective", columns="proportions", values=["y", "z"])
+    moved = 100 * max((shift[(a, "ansur2")] - shift[(a, "drillis-contini")]).abs().max()
+                      for a in ("y", "z"))
     rows["population"] = (
         [],
         [f"{len(sampled)} sampled workers ({(sampled['sex'] == 'female').sum()} women)",
          f"costs {best['mean_penalty']:.2f} points",
          f"penalises {100 * best['share_penalised']:.0f} % of them",
          f"at the {percentile(reference)}th-percentile man's optimum women pay "
-         f"{sex['female']:.2f}, men {sex['male']:.2f}"])
+         f"{sex['female']:.2f}, men {sex['male']:.2f}",
+         "with stature, elbow height and arm length per stature in the model, men pay "
+         "{:+.2f} (p = {:.2g}) more".format(*male.loc[["coef", "p"]]),
+         f"moves the optimum by at most {moved:.0f} cm"])
 
     block = robustness_tables.blocks(RESULTS)["robustness-headline"]
     rows["under error"] = ([], [f"<!-- robustness-headline -->{block}"

@@ -24,12 +24,14 @@ import learning_tables  # noqa: E402
 import population_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
+import validation_tables  # noqa: E402
 
 
 def test_report_generated_blocks_are_the_committed_results():
     made = {**learning_tables.blocks(ROOT / "results"),
             **population_tables.blocks(ROOT / "results"),
-            **robustness_tables.blocks(ROOT / "results")}
+            **robustness_tables.blocks(ROOT / "results"),
+            **validation_tables.blocks(ROOT / "results")}
     for name, block in made.items():
         if name not in ("learning-claim", "robustness-headline"):  # the README's headline table
             assert readme_blocks.where(name) == REPORT_PATH, name

@@ -25,9 +25,9 @@ from ergohandover.robustness.posture_error import (
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
 from ergohandover.study.config import RobustnessConfig
+from ergohandover.study.population import penalty_regression
 from ergohandover.study.robustness import (
     difference,
-    penalty_regression,
     recommendations,
     without_optimism,
 )
@@ -127,15 +127,23 @@ def test_the_difference_of_two_measured_scores():
     assert d["p_not_higher"] == pytest.approx(1.0)
 
 
-def test_the_penalty_regression_recovers_a_known_line():
+def test_the_penalty_regression_recovers_a_known_plane_and_leaves_out_missing_penalties():
     rng = np.random.default_rng(0)
     stature = rng.uniform(1.5, 1.9, 200)
     male = (rng.random(200) < 0.5).astype(float)
     penalty = 5 - 2 * stature + 0.5 * male + rng.normal(0, 0.01, 200)
-    rows = {r["term"]: r for r in penalty_regression(penalty, stature, male)}
+    rows = {r["term"]: r for r in penalty_regression(penalty, {"stature_m": stature,
+                                                               "male": male})}
     assert rows["stature_m"]["ci_low"] < -2 < rows["stature_m"]["ci_high"]
     assert rows["male"]["coef"] == pytest.approx(0.5, abs=0.01)
     assert rows["male"]["p"] < 1e-6
+    # A third predictor with no effect; workers the twin cannot serve (NaN) are left out.
+    ratio = rng.normal(0.61, 0.01, 200)
+    penalty[:10] = np.nan
+    rows = {r["term"]: r for r in penalty_regression(
+        penalty, {"stature_m": stature, "male": male, "elbow_ratio": ratio})}
+    assert rows["elbow_ratio"]["ci_low"] < 0 < rows["elbow_ratio"]["ci_high"]
+    assert rows["intercept"]["n"] == 190
 
 
 def test_a_one_size_choice_on_identical_workers_has_no_optimism():

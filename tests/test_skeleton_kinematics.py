@@ -92,9 +92,10 @@ def test_standing_anatomy_matches_the_segments(model):
         shoulder = fk.position(f"{side}_upper_arm")[0]
         assert shoulder == pytest.approx([0, sign * s.shoulder_width / 2, s.shoulder_height])
         grip = fk.position(f"{side}_grip")[0]
-        # Drillis & Contini put the wrist at 0.486 H.
+        # The wrist at the body's own wrist height (the survey's stylion, arm hanging).
+        wrist = body.landmarks()["wrist_height_m"]
         assert grip == pytest.approx(
-            [0, sign * s.shoulder_width / 2, 0.486 * h - s.grip_offset], abs=1e-3)
+            [0, sign * s.shoulder_width / 2, wrist - s.grip_offset], abs=1e-3)
         # Beside the thigh, not inside it.
         assert abs(grip[1]) - hand[1] / 2 > s.hip_width / 2 + s.thigh_radius
         palm = fk.rotation(f"{side}_hand")[0] @ PALM_NORMAL[side]

@@ -17,14 +17,9 @@ from ergohandover.study.population import (
     stature_band,
     working_heights,
 )
-from ergohandover.study.workforce import (
-    ANSUR2,
-    STATURE_MASS_CORRELATION,
-    Workforce,
-    bodies,
-    sample_workforce,
-)
+from ergohandover.study.workforce import Workforce, bodies, landmark_columns, sample_workforce
 from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.twin.body_model import body_model
 
 
 def test_the_same_seed_draws_the_same_workers_and_another_seed_others():
@@ -43,23 +38,37 @@ def test_the_sex_mix_is_exact(size, share, women):
     assert len(table) == size and (table["sex"] == "female").sum() == women
 
 
-def test_a_large_draw_has_the_surveys_means_sds_and_correlation():
-    table = sample_workforce(Workforce(40_000, seed=3))
+def test_a_large_draw_has_the_body_models_means_sds_and_correlations():
+    table = sample_workforce(Workforce(4_000, seed=3))
     for sex, rows in table.groupby("sex"):
-        h_mean, h_sd, m_mean, m_sd = ANSUR2[sex]
+        model = body_model()[sex]
         n = len(rows)
-        assert abs(rows["stature_m"].mean() - h_mean) < 4 * h_sd / math.sqrt(n)
-        assert abs(rows["stature_m"].std() - h_sd) < 0.03 * h_sd
-        assert abs(rows["mass_kg"].mean() - m_mean) < 4 * m_sd / math.sqrt(n)
-        assert abs(rows["mass_kg"].std() - m_sd) < 0.05 * m_sd
-        r = np.corrcoef(rows["stature_m"], np.log(rows["mass_kg"]))[0, 1]
-        assert abs(r - STATURE_MASS_CORRELATION[sex]) < 0.03
+        for name in ("stature_m", "mass_kg", "shoulder_height_m", "wrist_height_m"):
+            k = model.names.index(name)
+            assert abs(rows[name].mean() - model.mean[k]) < 4 * model.sd[k] / math.sqrt(n)
+            assert abs(rows[name].std() - model.sd[k]) < 0.08 * model.sd[k]
+        i, j = model.names.index("stature_m"), model.names.index("shoulder_height_m")
+        assert abs(np.corrcoef(rows["stature_m"], rows["shoulder_height_m"])[0, 1]
+                   - model.correlation[i, j]) < 0.02
+
+
+def test_workers_proportions_vary_as_the_surveys_do():
+    table = sample_workforce(Workforce(400, seed=4))
+    marks = landmark_columns(bodies(table))
+    # The survey's SD of elbow height / stature is about 0.010 within each sex; a twin scaled
+    # from stature alone would have none.
+    for sex in ("female", "male"):
+        ratio = marks["elbow_ratio"][table["sex"] == sex]
+        assert 0.007 < ratio.std() < 0.013
+        assert 0.59 < ratio.mean() < 0.63
 
 
 def test_every_worker_is_a_valid_body_at_the_surveys_resolution():
-    table = sample_workforce(Workforce(2_000, seed=9))
-    specs = bodies(table)  # BodySpec validates the range
+    table = sample_workforce(Workforce(500, seed=9))
+    specs = bodies(table)  # BodySpec validates the range and the anatomical order
     assert all(isinstance(b, BodySpec) for b in specs)
+    assert specs[0].measurements and dict(specs[0].measurements)["shoulder_height_m"] == \
+        table["shoulder_height_m"].iloc[0]
     np.testing.assert_allclose(table["stature_m"], table["stature_m"].round(3), atol=1e-12)
     np.testing.assert_allclose(table["mass_kg"], table["mass_kg"].round(1), atol=1e-12)
 

@@ -2,6 +2,8 @@
 
 - population_penalties.png: each worker's penalty (score at the one-size location less the
   score at their own optimum) against stature, one panel per one-size choice, postural score;
+- population_proportions.png: the same against the worker's proportions (standing elbow height
+  over stature), which vary at the same stature as they do in people;
 - population_optima.png: each worker's optimum height against stature (with the fitted line,
   the twin's elbow height and the published ranges of standing working height below it), and
   the workers' optima and the one-size locations seen from the side.
@@ -18,8 +20,14 @@ COLOURS = {"female": "#c44e52", "male": "#4c72b0"}
 OBJECTIVE = "paper_postural"
 
 
-def penalties() -> None:
+def penalties(against: str = "stature_m", label: str = "stature [m]",
+              name: str = "population_penalties.png") -> None:
+    """Each worker's penalty at each one-size location against ``against`` (a column of
+    workers.csv), one panel per choice."""
     table = read("population/penalties.csv")
+    if against not in table:
+        workers = read("population/workers.csv").set_index("worker")[against]
+        table = table.assign(**{against: workers.loc[table["worker"]].to_numpy()})
     one_size = read("population/one_size.csv").set_index(["objective", "choice"])
     table = table[table["objective"] == OBJECTIVE]
     choices = list(dict.fromkeys(table["choice"]))
@@ -32,13 +40,13 @@ def penalties() -> None:
         rows = table[table["choice"] == choice]
         for sex, colour in COLOURS.items():
             pick = rows[rows["sex"] == sex]
-            ax.scatter(pick["stature_m"], pick["penalty"] + pick["jitter"], s=18,
+            ax.scatter(pick[against], pick["penalty"] + pick["jitter"], s=18,
                        color=colour, label=sex, alpha=0.8)
         r = one_size.loc[(OBJECTIVE, choice)]
         ax.set_title(f"{CHOICE_NAMES[choice]}\n({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) m: mean "
                      f"penalty {r.mean_penalty:.2f} ({r.mean_ci_low:.2f}–{r.mean_ci_high:.2f})",
                      fontsize=8)
-        ax.set_xlabel("stature [m]")
+        ax.set_xlabel(label)
         ax.axhline(0, color="0.6", lw=0.8)
         ax.grid(axis="y", color="0.9", lw=0.5)
     integer_axis(axes[0], "y", table["penalty"])  # shared by every panel
@@ -51,7 +59,7 @@ def penalties() -> None:
     caption(fig, "Penalties are whole score steps; each worker's dot is spread vertically by "
                  "the same small fixed amount in every panel so that equal penalties stay "
                  "visible.", width=140)
-    save(fig, "population_penalties.png")
+    save(fig, name)
 
 
 def optima() -> None:
@@ -67,7 +75,8 @@ def optima() -> None:
         left.fill_between(stature, elbow - r.high_cm / 100, elbow - r.low_cm / 100,
                           color=shade, label=f"{r.low_cm:g}–{r.high_cm:g} cm below elbow "
                           f"({short_source(r.source)})")
-    left.plot(stature, elbow, color="0.4", lw=1, label="the twin's elbow height")
+    left.plot(stature, elbow, color="0.4", lw=1,
+              label="standing elbow height (line fitted over the workers)")
     fit = fits[(fits["objective"] == OBJECTIVE) & (fits["response"] == "y")
                & (fits["predictor"] == "stature_m")].iloc[0]
     left.plot(stature, fit.intercept + fit.slope * stature, color="k", ls="--",
@@ -101,6 +110,8 @@ def optima() -> None:
 
 def main() -> None:
     penalties()
+    penalties("elbow_ratio", "elbow height / stature (standing elbow height)",
+              "population_proportions.png")
     optima()
 
 

@@ -10,6 +10,7 @@ import json
 import learning_tables
 import pandas as pd
 import population_tables
+import validation_tables
 from common import RESULTS, read
 
 from ergohandover.io.atomic import atomic_write
@@ -189,7 +190,9 @@ def validation() -> list[str]:
         lines.append(f"| {cite} | {r.condition} | {r.quantity} | {r.low:g} to {r.high:g} "
                      f"({r.basis}) | ({r.box_y:.3f}, {r.box_z:.3f}) | {twin} | "
                      f"{'yes' if ok else '**no**'} |")
-    return [*lines, ""]
+    handovers = validation_tables.blocks(RESULTS)["validation-handovers"]
+    return [*lines, "", "The twin where people received an object in measured handovers "
+            "(Khanna et al. 2023):", handovers]
 
 
 def main() -> None:

@@ -98,6 +98,47 @@ def working_heights_table(table: pd.DataFrame) -> list[str]:
     return lines
 
 
+TERM_NAMES = {"stature_m": "stature, per 10 cm", "male": "a man rather than a woman",
+              "elbow_ratio": "elbow height / stature, per 0.01",
+              "arm_ratio": "arm length / stature, per 0.01"}
+TERM_SCALE = {"stature_m": 0.1, "male": 1.0, "elbow_ratio": 0.01, "arm_ratio": 0.01}
+
+
+def proportions_table(fits: pd.DataFrame, objective: str = "paper_postural") -> list[str]:
+    """Penalty against stature, sex and proportions at each one-size location: each term's
+    effect in points of the score per the unit named, its 95 % interval and p-value."""
+    at = fits[(fits["objective"] == objective) & (fits["term"] != "intercept")]
+    choices = list(dict.fromkeys(at["choice"]))
+    lines = ["| penalty's change for | " + " | ".join(f"at {CHOICE_NAMES[c]}" for c in choices)
+             + " |", "|---|" + "---|" * len(choices)]
+    for term in dict.fromkeys(at["term"]):
+        cells = []
+        for choice in choices:
+            r = at[(at["term"] == term) & (at["choice"] == choice)].iloc[0]
+            k = TERM_SCALE[term]
+            cells.append(f"{interval(k * r.coef, k * r.ci_low, k * r.ci_high)}, p = {r.p:.2g}")
+        lines.append(f"| {TERM_NAMES[term]} | " + " | ".join(cells) + " |")
+    n = int(at["n"].iloc[0])
+    return [*lines, "", f"Least squares over the {n} workers, all four terms together."]
+
+
+def earlier_twin_table(twins: pd.DataFrame) -> list[str]:
+    """The reference worker's optimum sized by the survey's model and by the fixed ratios."""
+    lines = ["| score | optimum, body model (x, y, z) [m] | optimum, fixed ratios (x, y, z) [m] "
+             "| height moved [cm] | reach moved [cm] |", "|---|---|---|---|---|"]
+    for objective in dict.fromkeys(twins["objective"]):
+        rows = twins[twins["objective"] == objective].set_index("proportions")
+        new, old = rows.loc["ansur2"], rows.loc["drillis-contini"]
+        lines.append(
+            f"| {OBJECTIVE_NAMES[objective]} | {int(new.optimum)} at ({new.x:.2f}, {new.y:.2f}, "
+            f"{new.z:.2f}) | {int(old.optimum)} at ({old.x:.2f}, {old.y:.2f}, {old.z:.2f}) | "
+            f"{100 * (new.y - old.y):+.0f} | {100 * (new.z - old.z):+.0f} |")
+    new, old = (twins[twins["proportions"] == p].iloc[0] for p in ("ansur2", "drillis-contini"))
+    return [*lines, "", f"Elbow height {100 * new.elbow_height_m:.1f} cm (the body model's "
+            f"standing elbow height) against {100 * old.elbow_height_m:.1f} cm (the fixed "
+            "ratios' elbow joint, 0.632 of stature)."]
+
+
 def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -> str:
     """The report's answer, in one paragraph, for the paper's score."""
     at = one_size[one_size["objective"] == "paper_postural"].set_index("choice")
@@ -128,15 +169,18 @@ def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/population/ only."""
     folder = results / "population"
-    one_size, groups, fits, workers, heights = (
+    one_size, groups, fits, workers, heights, proportions, twins = (
         _read(folder, f"{n}.csv") for n in
-        ("one_size", "groups", "height_fit", "workers", "working_heights"))
+        ("one_size", "groups", "height_fit", "workers", "working_heights", "proportions",
+         "earlier_twin"))
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"population-claim": claim(one_size, groups, workers),
             "population-one-size": table(one_size_table(one_size)),
             "population-who-pays": table(who_pays_table(groups)),
             "population-height": table(height_table(fits)),
-            "population-working-heights": table(working_heights_table(heights))}
+            "population-working-heights": table(working_heights_table(heights)),
+            "population-proportions": table(proportions_table(proportions)),
+            "population-earlier-twin": table(earlier_twin_table(twins))}
 
 
 def section(results: Path) -> list[str]:
@@ -149,7 +193,11 @@ def section(results: Path) -> list[str]:
             "One-size locations and what they cost (95 % intervals):",
             made["population-one-size"], "Who pays (postural score):",
             made["population-who-pays"], "The optimum's height and body size:",
-            made["population-height"], made["population-working-heights"]]
+            made["population-height"], made["population-working-heights"],
+            "Who pays beyond stature: penalty against sex and proportions (postural score):",
+            made["population-proportions"],
+            "The reference worker sized by the body model and by the earlier fixed ratios:",
+            made["population-earlier-twin"]]
 
 
 def main() -> None:

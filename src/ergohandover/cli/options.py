@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 
 from ..io.csv_input import InputError
 from . import defaults
+from .measurements import add_measurement_arguments, measured_body
 from .parser import given
 from .refusals import BODY_FLAGS, model, read_landscape
 from .values import (
@@ -84,15 +85,18 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
                        "percentile's)")
     group.add_argument("--sex", type=choice(SEXES), metavar="|".join(SEXES),
                        help="sex (default: the percentile's)")
+    add_measurement_arguments(group)
 
 
 def body_from_args(args: argparse.Namespace):
-    """The BodySpec the flags describe: the percentile, then any explicit overrides."""
+    """The BodySpec the flags describe: the percentile, then any explicit overrides, then the
+    worker's own measurements (:mod:`.measurements`)."""
     from ..twin.anthropometry import BodySpec
 
     overrides = {field: getattr(args, flag[2:]) for field, flag in BODY_FLAGS.items()
-                 if getattr(args, flag[2:]) is not None}
-    return dataclasses.replace(BodySpec.from_percentile(args.percentile), **overrides)
+                 if flag[2:] in ("stature", "mass", "sex") and getattr(args, flag[2:]) is not None}
+    base = model(dataclasses.replace, BodySpec.from_percentile(args.percentile), **overrides)
+    return model(measured_body, args, base)
 
 
 def add_task_arguments(parser: argparse.ArgumentParser) -> None:
@@ -115,7 +119,8 @@ def model_flags() -> list[str]:
     """The destinations of every flag that describes the worker, the task and the model."""
     from ..twin.task import TaskSpec
 
-    return ["percentile", "stature", "mass", "sex", *(f.name for f in dataclasses.fields(
+    return ["percentile", "stature", "mass", "sex", "elbow_height", "arm_length",
+            "shoulder_height", "measurements", "proportions", *(f.name for f in dataclasses.fields(
         TaskSpec)), "solver", "trunk_reference"]
 
 

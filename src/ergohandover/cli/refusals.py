@@ -19,7 +19,9 @@ from ..errors import ConfigError, ErgohandoverError
 from ..io.csv_input import InputError
 
 T = TypeVar("T")
-BODY_FLAGS = {"stature_m": "--stature", "mass_kg": "--mass", "sex": "--sex"}
+BODY_FLAGS = {"stature_m": "--stature", "mass_kg": "--mass", "sex": "--sex",
+              "elbow_height_m": "--elbow-height", "arm_length_m": "--arm-length",
+              "shoulder_height_m": "--shoulder-height"}
 """The body's fields, whose flags are not their names."""
 
 

@@ -61,10 +61,14 @@ def workforce_of(part: PopulationConfig) -> pd.DataFrame:
     table = sample_workforce(Workforce(part.size, part.seed, part.female_share))
     table["reference"] = 0
     reference = BodySpec.from_percentile(part.reference)
-    table.loc[len(table)] = {"worker": part.reference, "sex": reference.sex,
+    # The reference's measurements are the body model's means given his stature and mass.
+    marks = reference.landmarks()
+    table.loc[len(table)] = {**{c: round(marks[c], 4) for c in table.columns if c in marks},
+                             "worker": part.reference, "sex": reference.sex,
                              "stature_m": reference.stature_m, "mass_kg": reference.mass_kg,
                              "reference": 1}
-    return pd.concat([table, landmark_columns(bodies(table))], axis=1)
+    derived = landmark_columns(bodies(table))
+    return pd.concat([table, derived.drop(columns=[c for c in derived if c in table])], axis=1)
 
 
 def earlier_twin(grid: Grid, reference: Evaluator, engine: Engine) -> pd.DataFrame:

@@ -74,8 +74,11 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
     for a in recommendations["location"]:
         for b in others:
             for score in SCORES:
+                # A variant that cannot take the box at a location has no score there (NA):
+                # that pair is left out of the comparison.
                 values = np.array([[t[score].iloc[index[a]], t[score].iloc[index[b]]]
-                                   for t in scored], dtype=float)
+                                   for t in scored], dtype=object)
+                values = np.where(pd.isna(values), np.nan, values).astype(float)
                 compared.append(paired(f"{a} vs {b}", values[:, 0], values[:, 1], rng,
                                        config.robustness.resamples, a=a, b=b, score=score,
                                        perturbation="model variants"))

@@ -1,0 +1,112 @@
+"""A person's own measurements on the command line: a few flags, or one row of survey columns.
+
+``--elbow-height``, ``--arm-length`` and ``--shoulder-height`` give single landmarks in metres;
+``--measurements FILE`` reads a one-row CSV whose columns are the ANSUR II survey's (the
+public data files' names and units: millimetres, weight in tenths of a kilogram; other columns
+are ignored, so a row copied from the survey's files works, and its ``Gender`` column gives the
+sex unless ``--sex`` does). Whatever is not given is filled in by the body model fitted to the
+survey, given what is.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import pandas as pd
+
+from ..io.csv_input import InputError
+from .values import number
+
+FLAGS = {"elbow_height": "elbow_height_m", "arm_length": "arm_length_m",
+         "shoulder_height": "shoulder_height_m"}
+"""Flag destination -> the body model's name."""
+
+FLAG_HELP = {
+    "elbow_height": "standing elbow height [m]: floor to the underside of the elbow, forearm "
+                    "horizontal",
+    "arm_length": "arm length [m]: shoulder (acromion) to wrist, arm hanging",
+    "shoulder_height": "shoulder (acromial) height [m], standing",
+}
+
+
+def add_measurement_arguments(group) -> None:
+    """The measurement flags, in the worker's argument group."""
+    for dest, text in FLAG_HELP.items():
+        group.add_argument(f"--{dest.replace('_', '-')}", type=number(0.0, None, "m", above=True),
+                           metavar="M",
+                           help=f"{text} (default: the body model's, given the rest)")
+    group.add_argument("--measurements", type=Path, metavar="CSV",
+                       help="one row of ANSUR II survey columns (mm, weightkg in 0.1 kg), e.g. "
+                       "a row of the survey's public files: the worker's own measurements")
+    group.add_argument("--proportions", choices=("ansur2", "drillis-contini"),
+                       default="ansur2", help="ansur2: landmarks from the survey's body model "
+                       "(default); drillis-contini: the earlier twin, every length a fixed "
+                       "fraction of stature")
+
+
+def survey_measurements(row: dict) -> dict[str, float]:
+    """The body model's measurements [m, kg] from survey columns and units."""
+    from ..twin.body_model import MEASUREMENTS, SURVEY_SCALE
+
+    out = {}
+    for name, column in MEASUREMENTS.items():
+        if column in row and row[column] is not None and not pd.isna(row[column]):
+            value = row[column]
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise InputError(f"{column} = {value!r} is not a number (survey units: mm, "
+                                 "weightkg in 0.1 kg)") from None
+            out[name] = number / SURVEY_SCALE[column]
+    return out
+
+
+def read_survey_row(path: Path) -> tuple[dict[str, float], str | None]:
+    """The measurements of a one-row survey CSV, and its sex if it has a ``Gender`` column."""
+    from ..twin.body_model import MEASUREMENTS
+
+    try:
+        table = pd.read_csv(path, encoding="latin-1")
+    except FileNotFoundError:
+        raise InputError(f"--measurements {path}: no such file") from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise InputError(f"--measurements {path}: not a CSV file ({exc})") from None
+    if len(table) != 1:
+        raise InputError(f"--measurements {path}: {len(table)} rows; expected one person's")
+    row = table.iloc[0].to_dict()
+    found = survey_measurements(row)
+    if not found:
+        raise InputError(f"--measurements {path}: no survey column found (expected some of "
+                         f"{', '.join(sorted(MEASUREMENTS.values()))})")
+    gender = str(row.get("Gender", "")).strip().lower()
+    return found, (gender if gender in ("male", "female") else None)
+
+
+def measured_body(args: argparse.Namespace, base):
+    """The worker the flags describe: ``base`` (the percentile, with explicit stature, mass and
+    sex) and any measurements, or ``base`` itself when none is given."""
+    from ..twin.anthropometry import BodySpec
+
+    given: dict[str, float] = {}
+    sex = base.sex
+    if args.measurements is not None:
+        given, survey_sex = read_survey_row(args.measurements)
+        if args.sex is None and survey_sex:
+            sex = survey_sex
+    for dest, name in FLAGS.items():
+        value = getattr(args, dest)
+        if value is not None:
+            given[name] = value
+    if args.proportions != "ansur2":
+        if given:
+            raise InputError(f"--proportions {args.proportions} takes no measurements (its "
+                             "lengths are fractions of stature)")
+        return BodySpec(base.stature_m, base.mass_kg, base.sex, proportions=args.proportions)
+    if not given:
+        return base
+    # Explicit --stature/--mass win; otherwise the survey row's; otherwise the percentile's.
+    for name, flag in (("stature_m", "stature"), ("mass_kg", "mass")):
+        if getattr(args, flag) is not None or name not in given:
+            given[name] = getattr(base, name)
+    return BodySpec.from_measurements(given, sex)
