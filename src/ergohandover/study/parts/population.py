@@ -39,6 +39,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from ...executor import LocalExecutor
 from ...io.atomic import atomic_write_csv
 from ...landscape.grid import Grid
 from ...landscape.stats import optimum
@@ -116,16 +117,22 @@ def sweep_scores(grid: Grid, evaluators: list[Evaluator],
     return matrices, pd.DataFrame(optima), sweep
 
 
+def _robot_holds(job: tuple[Evaluator, np.ndarray]) -> tuple[int, str]:
+    """Whether the default robot holds the box at one worker's location (one process)."""
+    evaluator, location = job
+    held = holds(location[None], evaluator, RobotSpec(), workers=1).iloc[0]
+    return int(held["held"]), held["reason"]
+
+
 def robot_serves(table: pd.DataFrame, evaluators: list[Evaluator], workers: int) -> pd.DataFrame:
-    """Can the default robot hold the box at each worker's paper-score optimum?"""
-    # A robot's IK per worker, 1-2 s each: the bar shows the part is not stuck.
-    pairs = tqdm(zip(table.iterrows(), evaluators, strict=True), total=len(evaluators),
-                 desc="robot holds each optimum", unit="worker")
-    held = [holds(row[["paper_postural_x", "paper_postural_y", "paper_postural_z"]]
-                  .to_numpy(dtype=float)[None], evaluator, RobotSpec(), workers).iloc[0]
-            for (_, row), evaluator in pairs]
-    return pd.DataFrame({"robot_held": [int(h["held"]) for h in held],
-                         "robot_reason": [h["reason"] for h in held]})
+    """Can the default robot hold the box at each worker's paper-score optimum? One job per
+    worker on one pool (each job solves the twin there and the robot's lifts)."""
+    locations = table[["paper_postural_x", "paper_postural_y", "paper_postural_z"]].to_numpy(
+        dtype=float)
+    with LocalExecutor(workers) as executor:
+        held = list(tqdm(executor.map(_robot_holds, zip(evaluators, locations, strict=True)),
+                         total=len(evaluators), desc="robot holds each optimum", unit="worker"))
+    return pd.DataFrame(held, columns=["robot_held", "robot_reason"])
 
 
 def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
