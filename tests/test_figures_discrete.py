@@ -45,9 +45,9 @@ SCRIPTS = {
 }
 # Texts that state a share as its column holds it (targets.csv fraction: of the grid;
 # stats.csv feasible_fraction: the feasible points' share of the grid).
-SHARES = {"learning_min_score.png": "paper: optimum 4 on 0.712 % of the grid",
-          "learning_evaluations.png": "paper: target on 0.712 % of the grid",
-          "score_distribution.png": "N = 3,151,940 feasible points (96.6 % of the grid"}
+SHARES = {"learning_min_score.png": "paper: optimum 4 on 0.981 % of the grid",
+          "learning_evaluations.png": "paper: target on 0.981 % of the grid",
+          "score_distribution.png": "N = 3,156,901 feasible points (96.8 % of the grid"}
 # A share of something "of the ..." names the grid or its feasible points, nothing else.
 OTHER_SHARE = re.compile(r"% of the (?!grid|feasible points)")
 
@@ -184,9 +184,9 @@ def test_share_wording_follows_what_each_column_holds():
     feasible = stats.set_index("score")["feasible"]
     np.testing.assert_allclose(dist["fraction"], dist["count"] / dist["score"].map(feasible))
     paper = targets.set_index("target").loc["paper", "fraction"]
-    assert common.share_of_grid(paper) == "0.712 % of the grid"
+    assert common.share_of_grid(paper) == "0.981 % of the grid"
     at_min = stats.set_index("score").loc["paper_postural", "fraction_at_min"]
-    assert common.share_of_feasible(at_min, 2) == "0.74 % of the feasible points"
+    assert common.share_of_feasible(at_min, 2) == "1 % of the feasible points"
     assert common.percent(8.001976886856953e-05) == "0.008 %"
     assert common.percent(0.3157975579560805) == "31.6 %"
 

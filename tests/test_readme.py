@@ -222,8 +222,9 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
          f"penalises {100 * best['share_penalised']:.0f} % of them",
          f"at the {percentile(reference)}th-percentile man's optimum women pay "
          f"{sex['female']:.2f}, men {sex['male']:.2f}",
-         "with stature, elbow height and arm length per stature in the model, men pay "
-         "{:+.2f} (p = {:.2g}) more".format(*male.loc[["coef", "p"]]),
+         "with stature, elbow height and arm length per stature in the model, a man's "
+         "penalty there differs from a woman's by {:+.2f} (p = {:.2g})".format(
+             *male.loc[["coef", "p"]]),
          f"moves the optimum by at most {moved:.0f} cm"])
 
     block = robustness_tables.blocks(RESULTS)["robustness-headline"]

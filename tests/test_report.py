@@ -231,12 +231,14 @@ def test_report_run_times_are_the_committed_manifests():
     text = " ".join(REPORT.split("**Run-to-run spread.**")[0].split("## The study and its runs")[1]
                     .split())
     runs = pd.read_csv(ROOT / "results" / "learning" / "runs.csv")
+    population = json.loads((ROOT / "results" / "population" / "manifest.json").read_text())
+    swept = population["workers_computed"] + population["workers_reused"]
     dqn, every = (runs.loc[runs["agent"] == "dqn", "elapsed_s"].sum() / 60,
                   runs["elapsed_s"].sum() / 60)
     for quoted in (f"the learning part's 1,180 runs {minutes('learning'):.1f} minutes",
                    f"is {dqn:.1f} of the {every:.1f} minutes its runs take",
                    f"reachability {minutes('baselines'):.1f}",
-                   f"41 workers {minutes('population'):.1f}",
+                   f"{swept} workers {minutes('population'):.1f}",
                    f"31 variants {minutes('sensitivity'):.1f}",
                    f"the landscape {minutes('landscape'):.1f}"):
         assert quoted in text, quoted
@@ -244,8 +246,10 @@ def test_report_run_times_are_the_committed_manifests():
     assert f"(its 3 mm sweep {sweep['sweep_seconds']:.0f} s)" in text
     total = float(re.search(r"took ([\d.]+)\s+minutes on this 2-core", text).group(1))
     parts = sum(minutes(p) for p in ("landscape", "learning", "baselines", "ablations",
-                                     "participants", "population", "sensitivity", "validation"))
+                                     "participants", "population", "sensitivity", "validation",
+                                     "robustness"))
     assert parts <= total <= parts + 1.5  # the parts, plus the figures and the start-up
+    assert total <= 45  # the default study's budget on 2 cores
 
 
 def test_report_quotes_the_wall_clock_cells_of_dqn():
