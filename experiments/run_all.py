@@ -56,8 +56,8 @@ STEPS = (*PARTS, "figures")
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
-                          "participants": 48, "population": 174, "sensitivity": 101,
-                          "validation": 1, "robustness": 426, "figures": 26},
+                          "participants": 48, "population": 344, "sensitivity": 101,
+                          "validation": 1, "robustness": 582, "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 5, "figures": 22}}
