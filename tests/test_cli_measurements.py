@@ -78,3 +78,12 @@ def test_a_survey_file_that_is_not_one_person_is_refused(points, tmp_path):
     result = run_cli("evaluate", "--points", str(points), "--measurements", str(two))
     assert result.returncode == 2
     assert result.stderr.strip().endswith("2 rows; expected one person's")
+
+
+def test_a_file_that_is_not_a_csv_is_one_line(points, tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("stature,weightkg\n1700,700\n1800,800,9\n")
+    result = run_cli("evaluate", "--points", str(points), "--measurements", str(bad))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "--measurements" in lines[0] and "not a CSV file" in lines[0]

@@ -71,7 +71,8 @@ def read_survey_row(path: Path) -> tuple[dict[str, float], str | None]:
     except FileNotFoundError:
         raise InputError(f"--measurements {path}: no such file") from None
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"--measurements {path}: not a CSV file ({exc})") from None
+        reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        raise InputError(f"--measurements {path}: not a CSV file ({reason})") from None
     if len(table) != 1:
         raise InputError(f"--measurements {path}: {len(table)} rows; expected one person's")
     row = table.iloc[0].to_dict()
