@@ -37,7 +37,6 @@ from ..twin.evaluate import Evaluator, evaluate
 from .validation import MEASURES, elevation
 
 REFERENCE = Path(__file__).with_name("handover_reference.json")
-PLACEMENTS = ("object", "hand")
 SCORES = ("paper_postural", "reba", "rula")
 
 
@@ -86,6 +85,12 @@ def handover_table(evaluator: Evaluator, landscape: Landscape,
     difference; then, per handover and placement, the twin's scores there beside its own
     optimum and the share of its feasible locations that score better."""
     data = data or reference()
+    # The landscape's optimum and feasible scores, once per score (every placement needs them).
+    own = {}
+    for score in SCORES:
+        cells, _ = optimum(landscape, score)
+        values = landscape.arrays[score]
+        own[score] = (int(values[cells[0]]), values[values >= 0])
     rows = []
     for handover in data["handovers"]:
         side = handover["hand"]
@@ -104,12 +109,9 @@ def handover_table(evaluator: Evaluator, landscape: Landscape,
                 rows.append({**base, "quantity": quantity, "measured": measured,
                              "twin": round(value, 1), "difference": round(value - measured, 1),
                              "feasible": int(feasible)})
-            for score in SCORES:
-                cells, _ = optimum(landscape, score)
-                values = landscape.arrays[score]
-                best = int(values[cells[0]])
+            for score, (best, feasible_values) in own.items():
                 here = int(row[score]) if feasible else math.nan
-                better = float(np.mean(values[values >= 0] < here)) if feasible else math.nan
+                better = float(np.mean(feasible_values < here)) if feasible else math.nan
                 rows.append({**base, "quantity": f"{score}_score", "measured": math.nan,
                              "twin": here, "difference": here - best if feasible else math.nan,
                              "feasible": int(feasible), "twin_optimum": best,

@@ -75,7 +75,7 @@ def sample_workforce(workforce: Workforce) -> pd.DataFrame:
 
 def landmark_columns(people: list[BodySpec]) -> pd.DataFrame:
     """Each body's :data:`LANDMARKS` and proportions [m, 1], rounded to 0.1 mm and 1e-5."""
-    marks = pd.DataFrame([{name: b.landmarks()[name] for name in LANDMARKS} for b in people])
+    marks = pd.DataFrame([b.landmarks() for b in people], columns=list(LANDMARKS))
     stature = np.array([b.stature_m for b in people])
     return pd.concat([marks.round(4), pd.DataFrame({
         "elbow_ratio": (marks["elbow_height_m"] / stature).round(5),
