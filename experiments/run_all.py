@@ -15,6 +15,8 @@ Parts, in order:
   population    one-size vs personalised handover locations over a sampled workforce
   sensitivity   which modelling choices move the optimum: a landscape per variant
   validation    the twin beside published human data (angles, working heights, lifts)
+  robustness    the recommendation under posture-measurement error and a wrong model
+  personalise   how many handovers each searcher needs to find one worker's own optimum
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
 Configurations (experiments/configs/, each what differs from the defaults in
@@ -57,14 +59,16 @@ STEPS = (*PARTS, "figures")
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
                           "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 582, "figures": 33},
+                          "validation": 1, "robustness": 582, "personalise": 300,
+                          "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
-                        "robustness": 5, "figures": 22}}
+                        "robustness": 5, "personalise": 10, "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
-                "validation": "fig_validation", "robustness": "fig_robustness"}
+                "validation": "fig_validation", "robustness": "fig_robustness",
+                "personalise": "fig_personalise"}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 

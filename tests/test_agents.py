@@ -193,3 +193,18 @@ def test_infeasible_cells_are_never_best_locations():
     result = run_hillclimb(env, Budget(steps=6), 0)  # every move from the corner is infeasible
     assert result.best_score == math.inf and result.best_cells == {}
     assert result.trace["best_score"].tolist() == [math.inf]
+
+
+def test_a_q_table_reused_from_the_previous_run_starts_at_zero():
+    """Runs in one process share a spare zeroed table: a run after another is the same run."""
+    from ergohandover.learning import qlearning
+
+    qlearning._SPARE.clear()
+    first = qlearning.run_qlearning(bowl_env(), Budget(steps=5000), 3)
+    assert len(qlearning._SPARE) == 1  # its table, zeroed again, is kept
+    second = qlearning.run_qlearning(bowl_env(), Budget(steps=5000), 3)
+    for a, b in zip(first.q_table, second.q_table, strict=True):
+        assert np.array_equal(a, b)
+    assert first.trace.drop(columns="time_s").equals(second.trace.drop(columns="time_s"))
+    spare = np.frombuffer(qlearning._SPARE[6 * 343], dtype=np.float64)
+    assert not spare.any()

@@ -50,12 +50,17 @@ STUDY_DEFAULTS = {
     "solver": STUDY_EVALUATOR.solver, "trunk_reference": STUDY_EVALUATOR.trunk_reference}
 """Each shared flag's default as the study has it (read here from the study, not the CLI)."""
 MODEL = {"evaluate", "robustness", "sweep", "train", "baseline", "view"}
-SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view"},
-             "step": {"sweep", "train", "baseline", "view"},
-             "gaze": MODEL, "percentile": MODEL, "trunk_reference": MODEL,
-             "solver": {"evaluate", "robustness", "sweep"},
-             "seed": {"train", "baseline", "robustness"},
-             "objective": {"train"}, "episode_end": {"train"}}
+SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view", "personalise"},
+             "step": {"sweep", "train", "baseline", "view", "personalise"},
+             "gaze": MODEL | {"personalise"}, "percentile": MODEL | {"personalise"},
+             "trunk_reference": MODEL | {"personalise"},
+             "solver": {"evaluate", "robustness", "sweep", "personalise"},
+             "seed": {"train", "baseline", "robustness", "personalise"},
+             "objective": {"train", "personalise"}, "episode_end": {"train"}}
+COMMAND_DEFAULTS = {("personalise", "boundary"): STUDY.population.boundary,
+                    ("personalise", "step"): STUDY.population.step}
+"""Where a command's default is another part of the study's: personalising searches the grid the
+population study found every worker's optimum on."""
 
 
 def action(parser, dest: str):
@@ -83,9 +88,9 @@ def test_a_shared_flag_has_the_studys_default_in_every_command_and_its_help(dest
     having = {name for name, parser in PARSERS.items() if action(parser, dest) is not None}
     assert having == SHARED_BY[dest]
     for name in having:
-        flag = action(PARSERS[name], dest)
-        assert flag.default == expected, (name, dest)
-        assert f"(default: {shown(expected)}" in flag.help, (name, flag.help)
+        flag, default = action(PARSERS[name], dest), COMMAND_DEFAULTS.get((name, dest), expected)
+        assert flag.default == default, (name, dest)
+        assert f"(default: {shown(default)}" in flag.help, (name, flag.help)
         assert flat(flag.help) in flat(PARSERS[name].format_help())
 
 
@@ -194,7 +199,8 @@ def field_rule(cls, name: str) -> str:
 
 
 OUTPUT = {"score": "file", "evaluate": "file", "robustness": "file", "baseline": "file",
-          "sweep": "dir", "train": "dir", "landscape-stats": "dir", "view": "file"}
+          "sweep": "dir", "train": "dir", "landscape-stats": "dir", "view": "file",
+          "personalise": "dir"}
 OUTPUT_FLAG = {"view": "--export"}  # the viewer serves; what it writes is a recording
 BAD_FLAGS = [
     (["evaluate", "--points", "POINTS", "--stature", "-1.7"],

@@ -44,11 +44,12 @@ def test_the_learning_parts_estimate_from_its_jobs_is_within_30_percent():
 
 
 def test_the_bar_counts_work_not_runs():
-    """A DQN run of the largest budget is costed at over 100 times a tabular one, so the bar's
-    first minutes (DQN first) do not promise hours."""
+    """A DQN run (stopped at the target, ~13,000 steps on average) is costed at over 20 times
+    a tabular one to the same budget, so the bar's first minutes (DQN first) do not promise
+    hours."""
     config = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ())
     jobs = learning.plan_jobs(config)
     cost = {(job.agent, job.budget): learning.job_seconds(job) for job in jobs}
-    assert cost[("dqn", "paper-5min")] > 100 * cost[("qlearning", "paper-5min")]
+    assert cost[("dqn", "paper-5min")] > 20 * cost[("qlearning", "paper-5min")]
     assert [learning.job_seconds(j) for j in jobs] == sorted(
         (learning.job_seconds(j) for j in jobs), reverse=True)  # the longest first

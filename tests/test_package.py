@@ -51,7 +51,7 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
     assert set(runs["agent"]) == {"qlearning", "qlearning-adaptive", "dqn", "randomwalk",
                                   "random", "hillclimb"}
     assert (runs["best_score"] >= runs["target_score"]).all()
-    assert set(runs["stopped_by"]) <= {"step_cap", "time_cap"}  # no stop at the optimum
+    assert set(runs["stopped_by"]) <= {"step_cap", "stop_score"}  # runs stop at the target
     assert list(cache.glob("landscapes/*.npz")), "the study's landscapes go to the cache"
     # A second run reuses every finished part.
     second = subprocess.run(command, capture_output=True, text=True, timeout=600)

@@ -23,11 +23,11 @@ CONFIGS = ROOT / "experiments" / "configs"
 def test_the_default_file_is_the_defaults_and_spelling_a_default_out_changes_nothing():
     default = StudyConfig.load(CONFIGS / "default.json")
     assert default == StudyConfig()
-    spelled = StudyConfig.from_dict({"learning": {"runs": 10, "budgets": {
+    spelled = StudyConfig.from_dict({"learning": {"runs": 100, "budgets": {
         "paper-2min": 37_800, "paper-5min": 94_500}}, "landscape": {"step": 0.003}})
     for part in ("landscape", "learning", "baselines", "population"):
         assert part_hash(spelled.part_inputs(part)) == part_hash(default.part_inputs(part))
-    assert part_hash(StudyConfig.from_dict({"learning": {"runs": 11}}).part_inputs(
+    assert part_hash(StudyConfig.from_dict({"learning": {"runs": 101}}).part_inputs(
         "learning")) != part_hash(default.part_inputs("learning"))
 
 
@@ -120,4 +120,4 @@ def test_the_resolved_configuration_is_printed_whole():
     shown = json.loads(out.stdout)
     assert shown == json.loads(json.dumps(dataclasses.asdict(
         StudyConfig.load(CONFIGS / "quick.json"))))
-    assert shown["learning"]["runs"] == 3 and shown["learning"]["targets"][0]["name"] == "paper"
+    assert shown["learning"]["runs"] == 5 and shown["learning"]["targets"][0]["name"] == "paper"

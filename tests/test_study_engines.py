@@ -34,7 +34,7 @@ def test_the_learning_part_on_ray_repeats_the_local_pool(tmp_path, monkeypatch):
                         for table in ("runs", "summary", "found", "targets")}
         tables[name]["stats"] = pd.read_csv(results / "landscape" / "stats.csv")
     local, ray = tables["local"], tables["ray"]
-    assert len(local["runs"]) == 2 * 3 * 2 * 2  # targets x agents x budgets x runs
+    assert len(local["runs"]) == 2 * 3 * 6 * 2  # targets x agents x budgets x runs
     pd.testing.assert_frame_equal(ray["runs"].drop(columns=TIMING),
                                   local["runs"].drop(columns=TIMING))
     for table in ("found", "targets", "stats"):

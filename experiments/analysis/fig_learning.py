@@ -1,10 +1,10 @@
 """Figures of the learning study, one panel per target: (1) the minimum score of every run, per
-agent and budget, as counts of runs at the optimum and at each whole step above it (the paper
-drew a box plot; with 10 runs on 2-4 score values its boxes are lines); (2) the evaluations each
+agent and paper-rate budget, as counts of runs at the optimum and at each whole step above it
+(the paper drew a box plot; on 2-4 score values its boxes are lines); (2) the evaluations each
 run needed to reach the target, censored runs drawn at their budget; (3) the share of runs that
 have reached the target and (4) the mean best score so far, against evaluations, with 95 %
-bootstrap bands; (5) greedy rollouts of the learned policies against the random walk. Reads
-results/learning/ only."""
+bootstrap bands and every budget of the three mappings marked; (5) greedy rollouts of the
+learned policies against the random walk. Reads results/learning/ only."""
 
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ from common import (
     save,
     share_of_grid,
 )
-from learning_tables import AGENT_NAMES
+from learning_tables import AGENT_NAMES, PAPER_RATE
 from matplotlib.patches import Patch
 
 COLOURS = dict(zip(AGENT_NAMES, sns.color_palette("tab10", n_colors=len(AGENT_NAMES)),
@@ -60,9 +60,10 @@ def agent_ticks(ax, order: list[str]) -> None:
 
 
 def drawn_budgets(runs: pd.DataFrame) -> list[str]:
-    """The budgets the per-run panels show: the step budgets, smallest first; with none (the
-    paper's own protocol), the wall-clock caps."""
-    stepped = runs.dropna(subset=["steps"])
+    """The budgets the per-run panels show: the step budgets at the paper's rate, smallest
+    first (the other mappings are points of the curves); with none (the paper's own
+    protocol), the wall-clock caps."""
+    stepped = runs[runs["mapping"] == PAPER_RATE]
     if stepped.empty:
         return list(dict.fromkeys(runs.sort_values("time_cap_s")["budget"]))
     return list(dict.fromkeys(stepped.sort_values("steps")["budget"]))
@@ -168,10 +169,12 @@ def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
             box_and_dots(ax, x, group.loc[group["hit"], "evals"], palette[j], width, seed)
             missed = group.loc[~group["hit"], "evaluations"].to_numpy(dtype=float)
             # Censored: never reached within the budget (or the cap), drawn at the budget.
-            spread = (np.arange(missed.size) - (missed.size - 1) / 2) * 0.12 * width
+            # Spread within the box's width, however many (up to 100 runs a box).
+            spread = np.linspace(-0.4, 0.4, missed.size) * width if missed.size > 1 else \
+                np.zeros(missed.size)
             ax.scatter(x + spread, missed,
                        marker="x", color="#d62728", s=14, lw=0.8, zorder=3)
-            ax.text(x, 0.97, f"{int(group['hit'].sum())}/{len(group)}", fontsize=5.5,
+            ax.text(x, 0.97, f"{int(group['hit'].sum())}/{len(group)}", fontsize=5,
                     ha="center", va="top", transform=ax.get_xaxis_transform())
         ax.set_yscale("log")
         low, high = cell["evals"].min(), cell["evaluations"].max()
@@ -194,11 +197,14 @@ def evaluations_to_target(runs: pd.DataFrame, targets: pd.DataFrame) -> None:
 
 def curves(curve: pd.DataFrame, runs: pd.DataFrame, targets: pd.DataFrame, value: str,
            low: str, high: str, ylabel: str, name: str, title: str) -> None:
+    """One curve per agent, each up to the budget its runs went to (DQN's is the paper-rate
+    one), with every step budget marked: a budget's success rate is the curve's value there."""
     if curve.empty:  # wall-clock caps only: no shared evaluation axis, no curves
         return
-    budget = curve.sort_values("evaluations")["budget"].iloc[-1]  # the largest budget
-    curve = curve[curve["budget"] == budget]
-    sizes = runs[runs["budget"] == budget].groupby(["target", "agent"]).size()
+    stepped = runs.dropna(subset=["mapping"])
+    marks = stepped.drop_duplicates("budget").sort_values("steps")
+    sizes = stepped.drop_duplicates(["target", "agent", "run"]).groupby(
+        ["target", "agent"]).size()
     fig, axes = panels(len(targets))
     for ax, t in zip(axes, targets.itertuples(), strict=True):
         for agent in agents_in(curve):
@@ -215,14 +221,20 @@ def curves(curve: pd.DataFrame, runs: pd.DataFrame, targets: pd.DataFrame, value
                 integer_axis(ax, "y")
         else:
             ax.set_ylim(-0.03, 1.03)
+        for mark in marks.itertuples():
+            ax.axvline(mark.steps, color="0.6", lw=0.6,
+                       ls="-" if mark.mapping == PAPER_RATE else ":", zorder=0)
         ax.set_xscale("log")
         ax.set_title(t.target, fontsize=9)
         ax.set_xlabel("evaluations (log)", fontsize=8)
         ax.set_ylabel(ylabel, fontsize=8)
     axes[0].legend(fontsize=6)
-    fig.suptitle(f"{title} at {budget} (mean of {n_text(sizes, 'runs per curve')}, "
-                 "95 % bootstrap band)")
-    fig.tight_layout()
+    fig.suptitle(f"{title} (mean of {n_text(sizes, 'runs per curve')}, 95 % bootstrap band)")
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    caption(fig, "Vertical lines: the budgets, the paper's 2- and 5-minute caps at 315 "
+                 "evaluations/s (solid) and at a tenth and ten times that rate (dotted). "
+                 "A run stops at its first target cell and keeps it: its success and best score "
+                 "carry to every larger budget.")
     save(fig, name)
 
 

@@ -1,8 +1,8 @@
 """The learning study's tables in Markdown, from results/learning/ only: each target, the
-verdicts (does a learner beat the random walk and random sampling at the paper-matched
-budgets?), every agent's success rate, and the greedy rollouts. make_tables.py puts them into
-results/tables.md; docs/report.md carries the verdicts (README.md the headline claim) and a
-test keeps them equal."""
+verdicts (does a learner beat the random walk and random sampling, run for run, at the
+paper-rate budgets and under each mapping?), every agent's success rate, the tests' power and
+the greedy rollouts. make_tables.py puts them into results/tables.md; docs/report.md carries
+the verdicts (README.md the headline claim) and a test keeps them equal."""
 
 from __future__ import annotations
 
@@ -14,6 +14,9 @@ from readme_blocks import rewrite
 from ergohandover.learning.agents import AGENTS
 
 AGENT_NAMES = {name: agent.label for name, agent in AGENTS.items()}
+PAPER_RATE = 315.0
+"""The paper's evaluations per second (the study's ``LearningConfig.PAPER_RATE``): the
+``mapping`` of the budgets ``paper-2min`` and ``paper-5min``."""
 
 
 def rate(successes: int, n: int, low: float, high: float) -> str:
@@ -24,6 +27,11 @@ def rate(successes: int, n: int, low: float, high: float) -> str:
 def evaluations(value: float) -> str:
     """A median of evaluations, or ``>budget`` when more than half the runs never got there."""
     return "> budget" if not math.isfinite(value) else f"{value:,.0f}"
+
+
+def p_text(p: float) -> str:
+    """``p = 0.031`` in two significant digits, ``p < 1e-10`` below that."""
+    return "p < 1e-10" if p < 1e-10 else f"p = {p:.2g}"
 
 
 def targets_table(targets: pd.DataFrame) -> list[str]:
@@ -41,11 +49,24 @@ def grid_step(text: str) -> str:
     return text.split("every ")[1].replace("in boundary ", "in ")
 
 
+def paper_budgets(summary: pd.DataFrame) -> list[str]:
+    """The budgets at the paper's rate (315 evaluations/s), fewest evaluations first."""
+    at = summary[summary["mapping"] == PAPER_RATE].sort_values("steps", kind="stable")
+    return list(dict.fromkeys(at["budget"]))
+
+
+def step_budgets(summary: pd.DataFrame) -> list[str]:
+    """Every step budget, fewest evaluations first."""
+    at = summary.dropna(subset=["steps"]).sort_values("steps", kind="stable")
+    return list(dict.fromkeys(at["budget"]))
+
+
 def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str],
                   learner: str = "qlearning") -> list[str]:
-    """Per target and paper-matched budget: the learner's, the random walk's and random
-    sampling's success with intervals, and the learner against each (two-sided Mann-Whitney on
-    evaluations to the target with censored runs last; Cliff's δ > 0: the learner sooner)."""
+    """Per target and budget: the learner's, the random walk's and random sampling's success
+    with intervals, and the learner against each run for run (Wilcoxon signed-rank on
+    evaluations to the target with censored runs last, Holm-corrected over every comparison;
+    r > 0: the learner sooner)."""
     cells = summary.set_index(["target", "agent", "budget"])
     lines = [f"| target | budget | {AGENT_NAMES[learner]} | random walk | random sampling | "
              f"{AGENT_NAMES[learner]} vs random walk | vs random sampling |",
@@ -59,9 +80,34 @@ def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: lis
         tests = []
         for reference in ("randomwalk", "random"):
             row = group[group["versus"] == reference].iloc[0]
-            tests.append(f"{row['verdict']} (p = {row['p_mannwhitney']:.2g}, "
-                         f"δ = {row['cliffs_delta']:+.2f})")
+            tests.append(f"{row['verdict']} ({p_text(row['p_wilcoxon_holm'])}, "
+                         f"r = {row['rank_biserial']:+.2f})")
         lines.append(f"| {target} | {budget} | {' | '.join(shown)} | {' | '.join(tests)} |")
+    return lines
+
+
+SHORT = {"better": "better", "worse": "worse", "no conclusion": "–"}
+
+
+def short_verdict(text: str) -> str:
+    """A verdict in a narrow cell: ``≡`` for equivalent success rates, ``–`` for none."""
+    return "≡" if text.startswith("equivalent") else SHORT[text]
+
+
+def mapping_table(comparisons: pd.DataFrame, budgets: list[str],
+                  learner: str = "qlearning") -> list[str]:
+    """The learner against the random walk / random sampling at every budget of every
+    mapping, one row per target."""
+    at = comparisons[comparisons["agent"] == learner].set_index(["target", "budget", "versus"])
+    lines = ["| target | " + " | ".join(budgets) + " |", "|---|" + "---|" * len(budgets)]
+    for target in dict.fromkeys(comparisons["target"]):
+        cells = []
+        for budget in budgets:
+            pair = [short_verdict(at.loc[(target, budget, v), "verdict"])
+                    if (target, budget, v) in at.index else "·"
+                    for v in ("randomwalk", "random")]
+            cells.append(" / ".join(pair))
+        lines.append(f"| {target} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -110,8 +156,29 @@ def rollouts_table(summary: pd.DataFrame) -> list[str]:
     return lines
 
 
+def power_table(power: pd.DataFrame) -> list[str]:
+    """Each test's power at each number of paired runs, for one comparison at α and at Holm's
+    first step (α / the number of comparisons)."""
+    first = power.iloc[0]
+    levels = list(dict.fromkeys(power["level"]))
+    heads = [f"{level} (α = {power.loc[power['level'] == level, 'alpha'].iloc[0]:.2g})"
+             for level in levels]
+    lines = ["| runs | test | effect | " + " | ".join(heads) + " |",
+             "|---|---|---|" + "---|" * len(levels)]
+    for (agents, n, test, effect), group in power.groupby(["agents", "n", "test", "effect"],
+                                                          sort=False):
+        values = group.set_index("level")["power"]
+        lines.append(f"| {int(n)} ({agents}) | {test} | {effect} | "
+                     + " | ".join(f"{values[level]:.2f}" for level in levels) + " |")
+    lines.append("")
+    lines.append(f"Holm's first step divides α = {first['alpha']:g} by the "
+                 f"{int(first['family'])} comparisons of comparisons.csv; the equivalence "
+                 f"margin is ±{100 * first['margin']:g} percentage points of success rate.")
+    return lines
+
+
 BLOCKS = ("learning-claim", "learning-targets", "learning-tally", "learning-verdicts",
-          "learning-rollouts")
+          "learning-mappings", "learning-power", "learning-rollouts")
 """The generated blocks, each between ``<!-- name -->`` and ``<!-- /name -->`` in README.md or
 docs/report.md."""
 
@@ -121,14 +188,16 @@ def blocks(results) -> dict[str, str]:
     folder = results / "learning"
     read = lambda name: pd.read_csv(folder / name, keep_default_na=False,  # noqa: E731
                                     na_values=[""])
-    summary, comparisons, targets = (read(n) for n in ("summary.csv", "comparisons.csv",
-                                                       "targets.csv"))
-    budgets = list(dict.fromkeys(summary.dropna(subset=["steps"])["budget"]))
+    summary, comparisons, targets, power = (read(n) for n in (
+        "summary.csv", "comparisons.csv", "targets.csv", "power.csv"))
+    paper = paper_budgets(summary)
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
-    return {"learning-claim": claim(summary, budgets),
+    return {"learning-claim": claim(summary, paper),
             "learning-targets": table(targets_table(targets)),
-            "learning-tally": table(tally(comparisons, budgets)),
-            "learning-verdicts": table(verdict_table(summary, comparisons, budgets)),
+            "learning-tally": table(tally(comparisons)),
+            "learning-verdicts": table(verdict_table(summary, comparisons, paper)),
+            "learning-mappings": table(mapping_table(comparisons, step_budgets(summary))),
+            "learning-power": table(power_table(power)),
             "learning-rollouts": table(rollouts_table(summary))}
 
 
@@ -146,23 +215,26 @@ def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> s
             "tell them apart: the learning study")
 
 
-def tally(comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
-    """How often each learner is better, no different or worse than each reference agent,
-    over every target at the paper-matched budgets (two-sided, p < 0.05)."""
-    at = comparisons[comparisons["budget"].isin(budgets)]
+def tally(comparisons: pd.DataFrame) -> list[str]:
+    """How often each learner is better, worse, equivalent in success rate or neither against
+    each reference agent, over every target, per mapping (Holm-corrected, α as configured)."""
     lines = []
-    for agent, group in at.groupby("agent", sort=False):
+    agents = list(dict.fromkeys(comparisons["agent"]))
+    groups = sorted(comparisons.groupby(["agent", "mapping"], sort=False, dropna=False),
+                    key=lambda item: (agents.index(item[0][0]), item[0][1]))
+    for (agent, mapping), group in groups:
         parts = []
         for reference, g in group.groupby("versus", sort=False):
-            counts = g["verdict"].value_counts()
+            counts = g["verdict"].map(short_verdict).value_counts()
             parts.append(f"against {AGENT_NAMES[reference]} better in "
-                         f"{counts.get('better', 0)}, no different in "
-                         f"{counts.get('no difference', 0)}, worse in "
-                         f"{counts.get('worse', 0)}")
+                         f"{counts.get('better', 0)}, worse in {counts.get('worse', 0)}, "
+                         f"equivalent in success in {counts.get('≡', 0)}, no conclusion in "
+                         f"{counts.get('–', 0)}")
         pairs = group[["target", "budget"]].drop_duplicates()
-        lines.append(f"- {AGENT_NAMES[agent]}, {len(pairs)} comparisons "
-                     f"({pairs['target'].nunique()} targets × {pairs['budget'].nunique()} "
-                     "budgets): " + "; ".join(parts) + ".")
+        where = "wall-clock caps" if math.isnan(mapping) else f"{mapping:g} evaluations/s"
+        lines.append(f"- {AGENT_NAMES[agent]} at {where}, {len(pairs)} "
+                     f"comparisons ({pairs['target'].nunique()} targets × "
+                     f"{pairs['budget'].nunique()} budgets): " + "; ".join(parts) + ".")
     return lines
 
 

@@ -9,6 +9,7 @@ import json
 
 import learning_tables
 import pandas as pd
+import personalise_tables
 import population_tables
 import validation_tables
 from common import RESULTS, read
@@ -70,8 +71,10 @@ def learning() -> list[str]:
         f"{b} of wall clock" for b in dict.fromkeys(summary["budget"]))
     runs = int(summary["n_runs"].max())
     lines = ["## Learning: can the learners be told apart?", "",
-             f"{manifest['runs']:,} runs, {runs} per target, agent and budget, each with a seed "
-             f"of its own; budgets {described}; no run stops at the known optimum.", "",
+             f"{manifest['runs']:,} runs, up to {runs} per target, agent and budget, paired (run "
+             f"r of a target has one seed for every agent); budgets {described}; each step "
+             "budget is read from one run per target, agent and run at the largest, stopped at "
+             "its first target cell (docs/learning.md).", "",
              "Targets:", "", *learning_tables.targets_table(targets), "",
              *verdicts(summary, comparisons, budgets)]
     for budget in dict.fromkeys(summary["budget"]):
@@ -90,8 +93,8 @@ def verdicts(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str
     if not {"randomwalk", "random"} <= set(comparisons["versus"]):
         return []
     return ["Q-learning against the random walk and random sampling (successes of runs, 95 % "
-            "Wilson interval; two-sided Mann-Whitney on evaluations to the target, censored "
-            "runs last; Cliff's δ > 0: Q-learning sooner):", "",
+            "Wilson interval; Wilcoxon signed-rank on evaluations to the target run for run, "
+            "censored runs last, Holm-corrected p; r > 0: Q-learning sooner):", "",
             *learning_tables.verdict_table(summary, comparisons, budgets), ""]
 
 
@@ -200,7 +203,8 @@ def main() -> None:
                       "Built by experiments/analysis/make_tables.py from results/ only.", "",
                       *landscape(), *learning(), *baselines(), *participants(),
                       *population_tables.section(RESULTS), *ablations(),
-                      *sensitivity(), *validation()])
+                      *sensitivity(), *validation(),
+                      *personalise_tables.section(RESULTS)])
     path = atomic_write(RESULTS / "tables.md", lambda h: h.write(text))
     print(f"wrote {path}")
 

@@ -7,11 +7,11 @@ import sys
 from .. import __version__
 from ..errors import ErgohandoverError
 from ..executor import clean_stop
-from . import baseline, evaluate, robustness, score, sweep, train, view
+from . import baseline, evaluate, personalise, robustness, score, sweep, train, view
 from .options import join_negative_values
 from .parser import FlagError, Parser
 
-COMMANDS = (score, evaluate, robustness, sweep, baseline, train, view)
+COMMANDS = (score, evaluate, robustness, sweep, baseline, train, personalise, view)
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.
 # Every error of the package derives from ErgohandoverError; the others are the file
 # system's answers about paths the user named.

@@ -15,7 +15,8 @@ from ..envs.handover_env import EPISODE_ENDS, EPISODE_STEPS
 from ..envs.scores import OBJECTIVES
 from ..io.csv_input import InputError
 from ..landscape.store import cached_landscape
-from ..learning.agents import AGENTS, agent, run_agent
+from ..learning.agents import AGENTS, agent, agent_env, run_agent
+from ..learning.prior import Prior, shipped_prior
 from ..learning.qlearning import TEMPERATURES, QLearningConfig
 from . import defaults
 from .options import (
@@ -36,14 +37,17 @@ DESCRIPTION = f"""\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
 paper's: alpha {Q.alpha:g}, gamma {Q.gamma:g}, Q = 0, softmax with temperature {Q.tau:g};
 qlearning-adaptive: the paper's text's adaptive temperature), DQN (stable-baselines3), a random
-walk (the learner's moves and restarts, no learning), uniform random search or hill-climbing
-with random restarts, until a wall-clock or step cap.
+walk (the learner's moves and restarts, no learning), uniform random search, hill-climbing
+with random restarts, SAC (stable-baselines3, moves of up to 5 cells per axis), or an ask/tell
+searcher: bo (Bayesian optimisation, Optuna's GP sampler), tpe, cmaes, pso, or prior (the
+population prior for the worker of --stature/--sex or --percentile; not with --landscape), whose
+steps are distinct evaluations, until a wall-clock or step cap.
 Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
 --boundary/--step for this worker was swept before (`ergohandover sweep` or the study), else
 they are computed online (memoised). Writes trace.csv (time_s, step, best score and its x, y, z
 after every improvement), best_locations.csv (every location found at the best score, the most
-symmetric first), q_table.npz (Q-learning: visited states only) or dqn_model.zip, and
-manifest.json into --output (default: a new runs/train/<timestamp>/)."""
+symmetric first), q_table.npz (Q-learning: visited states only) or dqn_model.zip (sac_model.zip
+for SAC), and manifest.json into --output (default: a new runs/train/<timestamp>/)."""
 
 
 def time_cap_help() -> str:
@@ -68,12 +72,13 @@ def add_parser(subparsers) -> None:
         "train", help="learn or search the best handover location under a time or step cap",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--agent", required=True, type=choice(tuple(AGENTS)),
-                        metavar="|".join(AGENTS), help="the learner or baseline")
+                        metavar="|".join(AGENTS), help="the learner, baseline or searcher")
     caps = parser.add_argument_group("budget (give exactly one)")
     caps.add_argument("--time-cap", type=number(0, None, "s", above=True), metavar="S",
                       help=time_cap_help())
     caps.add_argument("--steps", type=whole(1), metavar="N",
-                      help="step cap [env steps]; deterministic")
+                      help="step cap [env steps; distinct evaluations for the searchers "
+                      "bo, tpe, cmaes, pso and prior]; deterministic")
     parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="K",
                         help=f"seed, an integer >= 0 (default: {defaults.SEED})")
     parser.add_argument("--objective", type=choice(OBJECTIVES), default=defaults.OBJECTIVE,
@@ -119,6 +124,10 @@ def parse(args: argparse.Namespace) -> dict:
             raise InputError(f"--temperature adaptive cannot be used with --agent {name} "
                              "(Q-learning's only: use --agent qlearning)")
         name = "qlearning-adaptive"
+    if name == "prior" and args.landscape is not None:
+        raise InputError("--agent prior cannot be used with --landscape (its prior is the "
+                         "population prior for the worker, which a landscape file does not "
+                         "record)")
     config = {"agent": name, "time_cap_s": args.time_cap, "steps": args.steps,
               "seed": args.seed, "objective": args.objective, "target": args.target,
               "episode_end": args.episode_end, "episode_steps": args.episode_steps,
@@ -136,7 +145,7 @@ def parse(args: argparse.Namespace) -> dict:
 
 def build_env(config: dict, args: argparse.Namespace):
     """The env and what it was built from (landscape or online evaluator and grid)."""
-    from ..envs import HandoverEnv, LandscapeScores, OnlineScores
+    from ..envs import LandscapeScores, OnlineScores
 
     if config["landscape"] is not None:
         landscape = read_landscape(config["landscape"], "--landscape")
@@ -148,14 +157,23 @@ def build_env(config: dict, args: argparse.Namespace):
         scores = LandscapeScores(landscape, config["objective"])
         source = {"landscape": str(landscape.path), "landscape_key": landscape.key}
     else:
-        # Random search jumps anywhere: prefetching a cube of neighbours would be waste.
-        scores = OnlineScores(grid, evaluator, config["objective"],
-                              block=1 if config["agent"] == "random" else 4)
+        # Random search and the searchers jump anywhere: prefetching a cube of neighbours
+        # would be waste.
+        jumps = config["agent"] == "random" or agent(config["agent"]).searcher
+        scores = OnlineScores(grid, evaluator, config["objective"], block=1 if jumps else 4)
         source = {"evaluator": dataclasses.asdict(evaluator)}
-    env = HandoverEnv(scores, observation=agent(config["agent"]).observation,
-                      episode_end=config["episode_end"], target=config["target"])
+    env = agent_env(config["agent"], scores, episode_end=config["episode_end"],
+                    target=config["target"])
     source["grid"] = dataclasses.asdict(scores.grid)
+    if config["agent"] == "prior":
+        source["prior"] = dataclasses.asdict(worker_prior(evaluator))
     return env, landscape, source
+
+
+def worker_prior(evaluator) -> Prior:
+    """The shipped population prior's expected optimum for the run's worker."""
+    body = evaluator.body
+    return shipped_prior().predict(body.stature_m, body.sex)
 
 
 def _bar(config: dict) -> tqdm:
@@ -163,7 +181,9 @@ def _bar(config: dict) -> tqdm:
         return tqdm(total=round(config["time_cap_s"], 1), unit="s", desc=config["agent"],
                     file=sys.stderr, disable=config["time_cap_s"] < 5,
                     bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s {postfix}")
-    slow = 10_000 if config["agent"] == "dqn" else 2_000_000
+    spec = agent(config["agent"])
+    slow = (100 if spec.searcher else 1_000 if spec.name == "sac"
+            else 10_000 if spec.name == "dqn" else 2_000_000)
     return tqdm(total=config["steps"], unit="step", unit_scale=True, desc=config["agent"],
                 file=sys.stderr, disable=config["steps"] < slow)
 
@@ -180,9 +200,10 @@ def run(args: argparse.Namespace) -> int:
 
         from ..learning.trace import Budget
 
+        prior = Prior(**source["prior"]) if "prior" in source else None
         result, agent_config = run_agent(
             config["agent"], env, Budget(config["time_cap_s"], config["steps"]),
-            config["seed"], config["episode_steps"], progress)
+            config["seed"], config["episode_steps"], progress, prior)
     output = args.output or run_folder("train")
     from ..learning.search import exhaustive
     from ..learning.trace import write_result

@@ -16,6 +16,7 @@ from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..errors import ConfigError
 from .qlearning import seeds_of
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+from .watch import Watch
 
 UNBOUNDED_STEPS = 10**9
 """``total_timesteps`` given to SB3 under a time cap only (the callback stops it first)."""
@@ -59,27 +60,6 @@ class DQNConfig:
     threads: int = 1
 
 
-class _Watch(gym.Wrapper):
-    """Offers every cell the learner reaches (resets included) to the best-so-far record."""
-
-    def __init__(self, env, best: BestSoFar):
-        super().__init__(env)
-        self.best, self.steps = best, 0
-
-    def reset(self, **kwargs):
-        obs, info = self.env.reset(**kwargs)
-        if info["score"] <= self.best.best:
-            self.best.offer(self.steps, info["score"], info["cell"])
-        return obs, info
-
-    def step(self, action):
-        obs, reward, terminated, truncated, info = self.env.step(action)
-        self.steps += 1
-        if info["score"] <= self.best.best:
-            self.best.offer(self.steps, info["score"], info["cell"])
-        return obs, reward, terminated, truncated, info
-
-
 def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
             progress: Progress | None = None) -> RunResult:
     """Train SB3's DQN on ``env`` until the budget is spent; keep the lowest score seen.
@@ -104,8 +84,8 @@ def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
         raise ConfigError("DQN needs the env's observation = 'position' (got "
                          f"{base.observation!r})")
     torch.set_num_threads(cfg.threads)
-    best = BestSoFar(base.location, budget.stop_score)
-    watched = _Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
+    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    watched = Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
 
     class Caps(BaseCallback):
         def _on_step(self) -> bool:

@@ -33,7 +33,7 @@ def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
     cell = base.cell
-    best = BestSoFar(base.location, budget.stop_score)
+    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
     done = best.offer(0, score_of(cell), cell)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, in_episode, episodes = 0, best.best, 0, 1
@@ -73,7 +73,7 @@ def run_random(env, budget: Budget, seed: int, progress: Progress | None = None)
     base: HandoverEnv = env.unwrapped
     _, rng = seeds_of(seed)
     score, size = base.scores.score, base.grid.size
-    best = BestSoFar(base.location, budget.stop_score)
+    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, done = 0, math.inf, False
     while not done and steps < step_limit and best.elapsed() < time_limit:
@@ -108,7 +108,7 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
     env_seed, _ = seeds_of(seed)
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
-    best = BestSoFar(base.location, budget.stop_score)
+    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     cell = base.cell
     here, best_score = base.reward(cell), score_of(cell)
@@ -121,9 +121,10 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
                 progress(steps, best.elapsed())
             if best.elapsed() >= time_limit:
                 break
-        move, move_reward, terminal = cell, here, False
+        move, move_reward, terminal, cut = cell, here, False, False
         for a in range(6):
             if steps >= step_limit:
+                cut = True  # the cap cut the look short
                 break
             nxt, s, r, terminated = transition(cell, a)
             steps += 1
@@ -134,6 +135,8 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
                     break
             if r > move_reward:
                 move, move_reward, terminal = nxt, r, terminated
+        if cut:
+            break  # no restart: it would score a cell beyond the cap
         if move == cell or terminal:
             env.reset()
             cell, restarts = base.cell, restarts + 1

@@ -36,11 +36,14 @@ class Budget:
         steps: step cap [env steps; score evaluations for random search].
         stop_score: stop as soon as a score at or below this is seen (benchmarks of
             time-to-minimum); None runs to the cap, as the paper does.
+        stop_cells: (grid.size,) bool: stop only at one of these cells (at or below
+            ``stop_score``, if given): a target that is a subset of the cells at the minimum.
     """
 
     time_cap_s: float | None = None
     steps: int | None = None
     stop_score: float | None = None
+    stop_cells: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         if self.time_cap_s is None and self.steps is None:
@@ -69,13 +72,18 @@ class BestSoFar:
 
     Args:
         location: flat cell -> (x, y, z) [m].
-        stop_score: the score at or below which the search stops (the budget's; None: never).
+        stop_score: the score at or below which the search stops (the budget's; None: never,
+            unless ``stop_cells`` is given).
+        stop_cells: (grid.size,) bool: stop only at one of these cells (the budget's).
     """
 
     def __init__(self, location: Callable[[int], tuple[float, float, float]],
-                 stop_score: float | None = None):
+                 stop_score: float | None = None, stop_cells: np.ndarray | None = None):
         self.location = location
-        self.stop_score = -math.inf if stop_score is None else stop_score
+        self.stop_cells = stop_cells
+        never = stop_score is None and stop_cells is None
+        self.stop_score = -math.inf if never else math.inf if stop_score is None else stop_score
+        self.hit = False
         self.best = math.inf
         self.cells: dict[int, int] = {}  # cell at the best score -> step first seen there
         self.rows: list[tuple] = []
@@ -94,12 +102,14 @@ class BestSoFar:
                               *self.location(cell)))
         elif cell not in self.cells:
             self.cells[cell] = step
-        return score <= self.stop_score
+        if score <= self.stop_score and (self.stop_cells is None or self.stop_cells[cell]):
+            self.hit = True
+        return self.hit
 
     @property
     def reached(self) -> bool:
-        """Whether the best score so far is at or below the stop score."""
-        return self.best <= self.stop_score
+        """Whether a stop cell (or score) has been seen: the search stops."""
+        return self.hit
 
     def elapsed(self) -> float:
         """Seconds since the run started (until :meth:`stop`)."""
@@ -152,7 +162,7 @@ def finish(agent: str, best: BestSoFar, steps: int, budget: Budget, info: dict |
     """Close a run: the final trace row and why it stopped."""
     best.stop()
     elapsed = best.elapsed()
-    if budget.stop_score is not None and best.best <= budget.stop_score:
+    if best.reached:
         stopped_by = "stop_score"
     else:
         stopped_by = "step_cap" if steps >= budget.step_limit else "time_cap"
@@ -187,8 +197,9 @@ def best_locations(result: RunResult, location) -> pd.DataFrame:
 
 def write_result(result: RunResult, location, output: Path, config: dict, seeds: dict,
                  extra: dict | None = None) -> list[Path]:
-    """Write ``trace.csv``, ``best_locations.csv``, ``q_table.npz`` or ``dqn_model.zip`` (if
-    any) and ``manifest.json`` into ``output`` (created if needed), each atomically.
+    """Write ``trace.csv``, ``best_locations.csv``, ``q_table.npz`` or the network
+    (``dqn_model.zip``, ``sac_model.zip``; if any) and ``manifest.json`` into ``output``
+    (created if needed), each atomically.
 
     Args:
         result: the run.
@@ -207,7 +218,8 @@ def write_result(result: RunResult, location, output: Path, config: dict, seeds:
             output / "q_table.npz",
             lambda h: np.savez_compressed(h, states=states, q=values), binary=True))
     if result.model is not None:
-        paths.append(atomic_write(output / "dqn_model.zip", result.model.save, binary=True))
+        paths.append(atomic_write(output / f"{result.agent}_model.zip", result.model.save,
+                                  binary=True))
     time_s, step = result.first_reached
     best = None if math.isinf(result.best_score) else result.best_score  # JSON has no inf
     summary = {"agent": result.agent, "best_score": best,

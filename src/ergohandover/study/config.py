@@ -84,22 +84,81 @@ DEFAULT_TARGETS = (
 
 
 @dataclasses.dataclass(frozen=True)
+class StepBudget:
+    """One budget of the learning study in score evaluations: one of the paper's caps under one
+    mapping of wall clock to evaluations.
+
+    Attributes:
+        name: ``paper-5min`` at the paper's rate, ``paper-5min@3150`` at another.
+        rate: the mapping [evaluations/s].
+        cap_s: the paper's cap it stands for [s].
+        steps: evaluations (env steps).
+    """
+
+    name: str
+    rate: float
+    cap_s: float
+    steps: int
+
+
+@dataclasses.dataclass(frozen=True)
 class LearningConfig:
-    """Every agent on every target and budget; ``budgets`` in evaluations (the paper's 2- and
-    5-minute caps at its ~315 evaluations per second), ``wall_caps_s`` of wall clock on the
-    ``wall_targets`` (the paper's own protocol: configs/paper.json)."""
+    """Every agent on every target at the paper's 2- and 5-minute caps, counted in evaluations
+    under three rates, in paired runs (run r of a target has one seed for every agent).
+
+    ``budgets`` are the caps in evaluations at the paper's rate (its Unity scored ~315 locations
+    per second); ``rates`` map them to evaluations per second: 315, a tenth and ten times. Each
+    agent but DQN runs ``runs`` times per target at the largest budget, stopped at its first
+    target cell (``oracle_stop``), and every smaller budget is read from that run; DQN (~0.4 ms
+    a step) runs ``dqn_runs`` times on ``dqn_targets`` at the paper's rate only. ``full_runs``
+    runs per paper-rate budget go to the cap: the best location each agent keeps (the baselines
+    carry the box there) and ``rollouts`` greedy walks of its policy. ``wall_caps_s`` of wall
+    clock on the ``wall_targets``: the paper's own protocol (configs/paper.json). ``margin``:
+    the equivalence margin on success rates; ``alpha``: every test's level after Holm's
+    correction (docs/learning.md)."""
+
+    PAPER_RATE = 315.0
+    """The paper's evaluations per second (3.4 M locations in ~3 h): the rate of ``budgets``."""
 
     seed: int = setting(2024, lo=0)
-    runs: int = setting(10, lo=1)
-    agents: tuple[str, ...] = setting(tuple(AGENTS), choices=tuple(AGENTS))
+    runs: int = setting(100, lo=1)
+    dqn_runs: int = setting(20, lo=1)
+    agents: tuple[str, ...] = setting(("qlearning", "qlearning-adaptive", "dqn", "randomwalk",
+                                       "random", "hillclimb"), choices=tuple(AGENTS))
     budgets: dict[str, int] = setting({"paper-2min": 37_800, "paper-5min": 94_500}, lo=1)
-    wall_caps_s: tuple[float, ...] = setting((2.0, 5.0), positive=True, unit="s")
-    wall_targets: tuple[str, ...] = setting(("paper", "lexicographic"))
-    dqn_targets: tuple[str, ...] = setting(("paper", "lexicographic"))
+    rates: tuple[float, ...] = setting((315.0, 31.5, 3150.0), positive=True,
+                                       unit="evaluations/s")
+    wall_caps_s: tuple[float, ...] = setting((), positive=True, unit="s")
+    wall_targets: tuple[str, ...] = setting(())
+    dqn_targets: tuple[str, ...] = setting(("paper",))
+    full_runs: int = setting(10, lo=0)
     rollouts: int = setting(20, lo=0)
-    oracle_stop: bool = setting(False)
+    oracle_stop: bool = setting(True)
     episode_end: str = setting("none", choices=EPISODE_ENDS)
+    margin: float = setting(0.10, lo=0.01, hi=0.5)
+    alpha: float = setting(0.05, lo=0.001, hi=0.2)
     targets: tuple[Target, ...] = setting(DEFAULT_TARGETS)
+
+    def __post_init__(self):
+        if self.budgets and self.PAPER_RATE not in self.rates:
+            raise ConfigError(f"learning.rates = {list(self.rates)} is not allowed without "
+                              f"{self.PAPER_RATE:g} (the paper's rate: DQN, the full runs and "
+                              "the budgets other parts name are at it)")
+        names = [b.name for b in self.step_budgets()]
+        if len(set(names)) < len(names):
+            twice = next(n for n in names if names.count(n) > 1)
+            raise ConfigError(f"learning.budgets: {twice!r} is named twice (a budget and a "
+                              "rate give it; rename the budget)")
+
+    def step_budgets(self, rate: float | None = None) -> list[StepBudget]:
+        """Every step budget (or those at ``rate``), fewest evaluations first: each of
+        ``budgets`` at each of ``rates``, named as in ``budgets`` at the paper's rate and with
+        ``@<rate>`` appended at another."""
+        out = [StepBudget(name if r == self.PAPER_RATE else f"{name}@{r:g}", r,
+                          steps / self.PAPER_RATE, round(steps * r / self.PAPER_RATE))
+               for r in self.rates for name, steps in self.budgets.items()
+               if rate is None or r == rate]
+        return sorted(out, key=lambda b: (b.steps, b.rate))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -147,6 +206,44 @@ class PopulationConfig:
     bootstrap_seed: int = setting(7, lo=0)
 
 
+PERSONALISE_SEARCHERS = ("random", "prior", "bo", "bo+prior", "tpe", "tpe+prior", "cmaes",
+                         "cmaes+prior", "pso", "pso+prior", "qlearning", "randomwalk", "sac")
+"""The personalisation study's searchers (``+prior``: warm-started by the worker's prior)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class PersonaliseConfig:
+    """How many handovers each searcher needs to find one worker's optimum: the population's
+    first ``workers`` workers, ``runs`` paired runs each, stopped at the optimum or at the
+    largest budget (``budget_caps``: a lower largest budget for a searcher whose proposals cost
+    seconds each, measured by experiments/bench_searchers.py)."""
+
+    workers: int = setting(30, lo=1)
+    runs: int = setting(10, lo=1)
+    seed: int = setting(28, lo=0)
+    objective: str = setting("paper_postural", choices=OBJECTIVES)
+    searchers: tuple[str, ...] = setting(tuple(s for s in PERSONALISE_SEARCHERS if s != "bo"),
+                                         choices=PERSONALISE_SEARCHERS)
+    budgets: tuple[int, ...] = setting((10, 25, 50, 100, 250, 1000), lo=1)
+    # Bayesian optimisation's proposals cost ~0.2 s each at 25 trials and ~1 s at 100 on one
+    # core (the GP's refit and acquisition search), SAC's ~5 ms (a gradient step per env
+    # step); the default study caps them so that it stays within 45 minutes on 2 cores, and
+    # configs/personalise_full.json runs them further (and Bayesian optimisation without the
+    # prior).
+    budget_caps: dict[str, int] = setting({"bo+prior": 25, "sac": 250}, lo=1)
+
+    def __post_init__(self):
+        for name in self.budget_caps:
+            if name not in PERSONALISE_SEARCHERS:
+                raise ConfigError(f"personalise.budget_caps: {name!r} names no searcher (use "
+                                  f"{', '.join(PERSONALISE_SEARCHERS)})")
+
+    def budgets_of(self, searcher: str) -> list[int]:
+        """The budgets a searcher is reported at: those up to its cap."""
+        cap = self.budget_caps.get(searcher, max(self.budgets))
+        return [b for b in sorted(self.budgets) if b <= cap]
+
+
 @dataclasses.dataclass(frozen=True)
 class SensitivityConfig:
     step: float = setting(0.01, positive=True, unit="m")
@@ -178,10 +275,12 @@ class RobustnessConfig:
 
 
 READS = {"baselines": ("learning",),
-         "robustness": ("learning", "baselines", "participants", "population", "sensitivity")}
+         "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
+         "personalise": ("population",)}
 """Parts that read another part's results besides the landscape's: the baselines carry the box
 to the location the learner found; the robustness part reads the baselines' locations, the
-population's one-size locations and the landscapes of the participants, workers and variants."""
+population's one-size locations and the landscapes of the participants, workers and variants;
+the personalisation part reads the population's workers and their optima (the prior)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -197,6 +296,7 @@ class StudyConfig:
     sensitivity: SensitivityConfig = setting(SensitivityConfig())
     validation: ValidationConfig = setting(ValidationConfig())
     robustness: RobustnessConfig = setting(RobustnessConfig())
+    personalise: PersonaliseConfig = setting(PersonaliseConfig())
 
     def __post_init__(self):
         learning = self.learning

@@ -1,11 +1,23 @@
-"""The runs of the learning study: one job per (target, agent, budget, run), each with a seed
-of its own, and what one run reports.
+"""The runs of the learning study and what one run reports.
 
 A *target* is a landscape, the objective the agents minimise on it and the cells that count as
-the optimum (:mod:`..learning.targets`). A *budget* is either a number of env steps (score
-evaluations), equal for every agent, or a wall-clock cap. Runs stop at their budget only, unless
-the configuration asks for ``oracle_stop`` (stop when the target's score is seen: the known
-optimum, which a learner in the field does not have).
+the optimum (:mod:`..learning.targets`). A *budget* is a number of env steps (score
+evaluations), equal for every agent, or a wall-clock cap. Three kinds of run:
+
+- ``search``: one run per (target, agent, run) at the agent's largest step budget, stopped at
+  its first target cell. An agent's run with a smaller step cap is the first part of the run
+  with a larger one (its random numbers are drawn in blocks from its own Generators whatever
+  the cap; ``tests/test_learning_power.py``), and every target cell is at the objective's
+  minimum, so success, evaluations to the target and the best score at every smaller budget
+  are read from this one run (:func:`budget_rows`) exactly as runs capped there would give
+  them.
+- ``full``: runs to a paper-rate budget without the stop: the best location an agent keeps
+  (every cell at its best score, as the paper's learner does) and greedy rollouts of its
+  policy, both of which need the whole run.
+- ``wall``: runs to a wall-clock cap (the paper's own protocol), without the stop.
+
+Run r of a target has one seed for every agent and budget (:func:`run_seed`): the agents meet
+the same random starts and draw from the same streams, so they are compared run for run.
 """
 
 from __future__ import annotations
@@ -29,9 +41,13 @@ from ..learning.rollouts import (
     step_limit,
     table_policy,
 )
+from ..learning.statistics import best_so_far
 from ..learning.targets import TargetCells, evaluations_to_target, target_cells
 from ..learning.trace import Budget, best_locations
 from ..twin.evaluate import Evaluator
+from .config import StepBudget
+
+KINDS = ("search", "full", "wall")
 
 
 @dataclass(frozen=True)
@@ -44,9 +60,10 @@ class RunJob:
             minimise and which cells count.
         agent: an agent of the registry (:data:`~..learning.agents.AGENTS`).
         budget: the budget's name; ``steps`` or ``time_cap_s`` its size.
-        run: the run's number within its (target, agent, budget).
-        seed: the run's own seed (:func:`run_seed`).
-        oracle_stop: stop at the target's score.
+        run: the run's number within its target.
+        seed: the run's seed (:func:`run_seed`: the same for every agent).
+        kind: ``search``, ``full`` or ``wall`` (the module's docstring).
+        oracle_stop: stop at the first target cell (search runs).
         episode_end: the env's (``none``: episodes end only by truncation; ``paper``: also at
             a score of at most 4, the paper's rule).
         rollouts: greedy rollouts after the run (0: none); ``rollout_seed`` draws their starts.
@@ -63,16 +80,18 @@ class RunJob:
     time_cap_s: float | None
     run: int
     seed: int
+    kind: str = "search"
     oracle_stop: bool = False
     episode_end: str = "none"
     rollouts: int = 0
     rollout_seed: int = 0
 
 
-def run_seed(study_seed: int, target: str, agent: str, budget: str, run: int) -> int:
-    """A seed of its own for every run of every agent, budget and target: drawn from the
-    study's seed and the names (not positions), so adding a target changes no other run."""
-    name = zlib.crc32(f"{target}|{agent}|{budget}".encode())
+def run_seed(study_seed: int, target: str, run: int) -> int:
+    """Run ``run``'s seed on ``target``: the same for every agent and budget (paired runs),
+    drawn from the study's seed and the target's name (not its position), so adding a target
+    or an agent changes no other run."""
+    name = zlib.crc32(target.encode())
     return int(np.random.SeedSequence([study_seed, name, run]).generate_state(1)[0])
 
 
@@ -99,30 +118,31 @@ def target_of(evaluator: Evaluator, grid: Grid, objective: str,
 
 
 def run_job(job: RunJob) -> dict:
-    """Run one job; returns its row of ``runs.csv`` and its trace."""
+    """Run one job; returns its ``kind``, its row (a run's outcome) and its trace."""
     scores, target = target_of(job.evaluator, job.grid, job.objective, job.goal)
     env = HandoverEnv(scores, observation=agent(job.agent).observation,
                       episode_end=job.episode_end)
-    budget = Budget(job.time_cap_s, job.steps,
-                    stop_score=target.score if job.oracle_stop else None)
+    stop = job.oracle_stop and job.kind == "search"
+    budget = Budget(job.time_cap_s, job.steps, stop_score=target.score if stop else None,
+                    stop_cells=target.mask if stop else None)
     result, _ = run_agent(job.agent, env, budget, job.seed)
     reached_at = evaluations_to_target(result, target)
-    found = best_locations(result, env.location)
     row = {k: v for k, v in asdict(job).items()
-           if k not in ("evaluator", "grid", "rollout_seed")}
+           if k not in ("evaluator", "grid", "objective", "goal", "rollout_seed", "rollouts")}
     row.update(
         target_score=target.score, best_score=result.best_score,
-        found_x=found["x"].iloc[0] if len(found) else math.nan,
-        found_y=found["y"].iloc[0] if len(found) else math.nan,
-        found_z=found["z"].iloc[0] if len(found) else math.nan,
         reached=reached_at is not None,
         evaluations_to_target=math.nan if reached_at is None else reached_at,
         evaluations=result.steps, elapsed_s=round(result.elapsed_s, 3),
         steps_per_s=round(result.steps / max(result.elapsed_s, 1e-9)),
         stopped_by=result.stopped_by)
+    if job.kind != "search":  # the run kept every cell at its best score: the location
+        found = best_locations(result, env.location)
+        row.update({f"found_{axis}": found[axis].iloc[0] if len(found) else math.nan
+                    for axis in "xyz"})
     if job.rollouts:
         row.update(rollouts_of(job, env, result, target))
-    return {"row": row, "trace": result.trace}
+    return {"kind": job.kind, "row": row, "trace": result.trace}
 
 
 def rollouts_of(job: RunJob, env: HandoverEnv, result, target: TargetCells) -> dict:
@@ -145,10 +165,61 @@ def rollouts_of(job: RunJob, env: HandoverEnv, result, target: TargetCells) -> d
             "rollout_reached": int(walks.reached.sum()), "rollout_mean_steps": walks.mean_steps}
 
 
+RUN_COLUMNS = ("target", "agent", "budget", "mapping", "cap_min", "steps", "time_cap_s", "run",
+               "seed", "run_budget", "oracle_stop", "episode_end", "target_score", "best_score",
+               "reached", "evaluations_to_target", "evaluations", "elapsed_s", "steps_per_s",
+               "stopped_by")
+"""runs.csv: one row per (target, agent, budget, run). ``run_budget`` names the run it is read
+from (its trace's key); ``elapsed_s`` and ``steps_per_s`` are that run's."""
+
+
+def budget_rows(row: dict, trace: pd.DataFrame, budgets: list[StepBudget]) -> list[dict]:
+    """A search run's rows at each of ``budgets`` (each at most its own): reached when it first
+    evaluated a target cell within the budget, its best score then from its trace, and the
+    evaluations a run capped there (and stopped at the target) would have made."""
+    at = np.array([b.steps for b in budgets])
+    best = best_so_far(trace["step"].to_numpy(), trace["best_score"].to_numpy(), at)
+    first = row["evaluations_to_target"]
+    rows = []
+    for budget, best_score in zip(budgets, best.tolist(), strict=True):
+        reached = bool(first <= budget.steps)  # NaN (never) compares False
+        rows.append({**row, "budget": budget.name, "mapping": budget.rate,
+                     "cap_min": budget.cap_s / 60, "steps": budget.steps, "time_cap_s": math.nan,
+                     "run_budget": row["budget"], "best_score": best_score, "reached": reached,
+                     "evaluations_to_target": first if reached else math.nan,
+                     "evaluations": min(row["evaluations"], budget.steps),
+                     "stopped_by": "stop_score" if reached and row["stopped_by"] == "stop_score"
+                     else "step_cap"})
+    return rows
+
+
+def wall_row(row: dict) -> dict:
+    """A wall-clock-capped run's row of runs.csv (no mapping: its cap is of wall clock)."""
+    return {**row, "mapping": math.nan, "cap_min": row["time_cap_s"] / 60, "steps": math.nan,
+            "run_budget": row["budget"]}
+
+
+def run_table(done: list[dict], budgets_of) -> pd.DataFrame:
+    """runs.csv from the finished search and wall runs; ``budgets_of(agent)`` gives the step
+    budgets an agent is reported at."""
+    rows = []
+    for d in done:
+        if d["kind"] == "search":
+            own = d["row"]["steps"]
+            rows += budget_rows(d["row"], d["trace"],
+                                [b for b in budgets_of(d["row"]["agent"]) if b.steps <= own])
+        elif d["kind"] == "wall":
+            rows.append(wall_row(d["row"]))
+    return pd.DataFrame(rows, columns=list(RUN_COLUMNS))
+
+
 def trace_table(done: list[dict]) -> pd.DataFrame:
-    """Every run's trace in one long table, keyed by target, agent, budget and run."""
-    frames = [d["trace"].assign(**{k: d["row"][k] for k in ("target", "agent", "budget", "run")})
-              for d in done]
-    table = pd.concat(frames, ignore_index=True)
+    """The traces of the search and wall runs in one long table, keyed by target, agent, the
+    run's own budget and run."""
     keys = ["target", "agent", "budget", "run"]
+    frames = [d["trace"].assign(**{k: d["row"][k] for k in keys})
+              for d in done if d["kind"] != "full"]
+    if not frames:
+        return pd.DataFrame(columns=keys)
+    table = pd.concat(frames, ignore_index=True)
     return table[keys + [c for c in table.columns if c not in keys]]

@@ -1,0 +1,131 @@
+"""The personalisation study's tables and answer in Markdown, from results/personalise/ only:
+how many handovers each searcher needs to reach one worker's own optimum, and which one a
+practitioner should use. make_tables.py puts the table into results/tables.md; the README and
+docs/report.md carry the blocks and tests keep them equal; ``python personalise_tables.py``
+rewrites the blocks."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pandas as pd
+from readme_blocks import rewrite
+
+NAMES = {"random": "random sampling", "prior": "population prior alone",
+         "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
+         "pso": "particle swarm", "qlearning": "tabular Q-learning (the paper's)",
+         "randomwalk": "random walk", "sac": "Soft Actor-Critic"}
+
+
+def label(searcher: str) -> str:
+    """A searcher's name in prose: ``Bayesian optimisation (GP) + prior``."""
+    base, _, suffix = searcher.partition("+")
+    return NAMES.get(base, base) + (" from the prior" if suffix else "")
+
+
+def _read(results: Path, name: str) -> pd.DataFrame:
+    return pd.read_csv(results / "personalise" / name, keep_default_na=False, na_values=[""])
+
+
+def evals(value: float, budget: int) -> str:
+    """A median number of evaluations, or ``> budget`` where half the runs did not get there."""
+    return f"> {budget:,}" if math.isnan(value) else f"{value:g}"
+
+
+def ranking(summary: pd.DataFrame) -> pd.DataFrame:
+    """Each searcher at its largest budget on the optimum: fewest median evaluations first
+    (searchers that reach it in fewer than half their runs last, by success rate)."""
+    optimum = summary[summary["target"] == "optimum"]
+    last = optimum.loc[optimum.groupby("searcher", sort=False)["budget"].idxmax()]
+    key = last["median_evals_to_optimum"].fillna(math.inf)
+    return last.assign(_key=key, _rate=-last["success_rate"]).sort_values(
+        ["_key", "_rate"], kind="stable").drop(columns=["_key", "_rate"])
+
+
+def best_searcher(summary: pd.DataFrame) -> str:
+    """The searcher a practitioner should use: the first of :func:`ranking`."""
+    return str(ranking(summary).iloc[0]["searcher"])
+
+
+def summary_table(summary: pd.DataFrame) -> list[str]:
+    budgets = sorted(summary["budget"].unique())
+    head = " | ".join(f"optimum within {b:,}" for b in budgets)
+    lines = [f"| searcher | {head} | median evaluations to the optimum | to within one "
+             "point |",
+             "|---|" + "---|" * len(budgets) + "---|---|"]
+    for row in ranking(summary).itertuples():
+        mine = summary[(summary["searcher"] == row.searcher) & (summary["target"] == "optimum")
+                       ].set_index("budget")
+        cells = [f"{mine.loc[b, 'success_rate']:.0%} ({mine.loc[b, 'ci_low']:.0%}–"
+                 f"{mine.loc[b, 'ci_high']:.0%})" if b in mine.index else "not run"
+                 for b in budgets]
+        lines.append(f"| {label(row.searcher)} | {' | '.join(cells)} | "
+                     f"{evals(row.median_evals_to_optimum, row.budget)} | "
+                     f"{evals(row.median_evals_to_within_1, row.budget)} |")
+    return lines
+
+
+def answer(summary: pd.DataFrame) -> str:
+    """The plain answer: which searcher, how many handovers, against random sampling and the
+    paper's Q-learning."""
+    ranked = ranking(summary).set_index("searcher")
+    best = ranked.index[0]
+    first = ranked.iloc[0]
+    workers, runs = int(first["n_workers"]), int(first["n_runs"])
+    parts = [f"Use {label(best)}: on {workers} workers ({runs} runs) it reaches the worker's own "
+             f"optimum in a median of {evals(first['median_evals_to_optimum'], first['budget'])}"
+             f" handovers and comes within one point of it in "
+             f"{evals(first['median_evals_to_within_1'], first['budget'])}"]
+    mine = summary[(summary["searcher"] == best) & (summary["target"] == "optimum")
+                   ].set_index("budget")
+    for budget in (25, 50):
+        if budget in mine.index:
+            parts.append(f"within {budget} handovers it has found the optimum in "
+                         f"{mine.loc[budget, 'success_rate']:.0%} of runs")
+    for other in ("random", "qlearning"):
+        if other in ranked.index and other != best:
+            row = ranked.loc[other]
+            parts.append(f"{label(other)} needs "
+                         f"{evals(row['median_evals_to_optimum'], row['budget'])}")
+    return "; ".join(parts) + "."
+
+
+def headline(summary: pd.DataFrame) -> str:
+    """The README's row: the best searcher's median handovers to a worker's own optimum beside
+    random sampling's, the paper's learner's and Bayesian optimisation's."""
+    ranked = ranking(summary).set_index("searcher")
+    best, first = ranked.index[0], ranked.iloc[0]
+    text = (f"on {int(first['n_workers'])} sampled workers, the {label(best)} reaches the "
+            f"worker's own optimum in a median of "
+            f"{evals(first['median_evals_to_optimum'], first['budget'])} handovers")
+    others = [f"{label(o)} {evals(row['median_evals_to_optimum'], row['budget'])}"
+              for o in ("random", "qlearning", "bo+prior", "sac")
+              if o in ranked.index and o != best for row in (ranked.loc[o],)]
+    return text + (f" ({', '.join(others)})" if others else "")
+
+
+def blocks(results: Path) -> dict[str, str]:
+    """Each generated block's text, from ``results``/personalise/ only."""
+    summary = _read(results, "summary.csv")
+    return {"personalise-headline": headline(summary),
+            "personalise-answer": answer(summary),
+            "personalise-table": "\n" + "\n".join(summary_table(summary)) + "\n"}
+
+
+def section(results: Path) -> list[str]:
+    """results/tables.md's section."""
+    summary = _read(results, "summary.csv")
+    return ["## Personalisation: handovers to one worker's own optimum", "",
+            answer(summary), "", *summary_table(summary), ""]
+
+
+def main() -> None:
+    """Rewrite the personalisation blocks from results/ wherever each lives."""
+    from common import RESULTS
+
+    rewrite(blocks(RESULTS))
+
+
+if __name__ == "__main__":
+    main()

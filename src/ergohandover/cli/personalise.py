@@ -1,0 +1,350 @@
+"""``ergohandover personalise``: find one worker's own handover location, one handover at a time.
+
+The command is thin: it turns flags into a grid, a worker, a prior, a searcher and an oracle,
+and hands them to :mod:`ergohandover.learning.session`, which proposes, records and saves.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+from ..envs.scores import OBJECTIVES
+from ..errors import ConfigError
+from ..io.atomic import atomic_write_csv
+from ..io.csv_input import InputError
+from ..io.manifest import write_manifest
+from ..study.config import PopulationConfig
+from . import defaults
+from .options import (
+    add_evaluator_arguments,
+    add_output_folder_argument,
+    evaluator_from_args,
+    grid_from_args,
+    model,
+    run_folder,
+)
+from .parser import given
+from .values import boundary, choice, number, output_file, rule, whole
+
+DEFAULT_SEARCHER = "bo"
+"""The searcher that needed the fewest handovers in the personalisation study
+(results/personalise/summary.csv picks it: its ``X+prior`` row is this command's ``--searcher
+X``, its ``X`` row is ``--searcher X --no-prior``)."""
+DEFAULT_TRIALS = 25
+"""One of the study's budgets (:class:`~ergohandover.study.config.PersonaliseConfig`), so the
+study says how often that many handovers found a worker's own optimum."""
+BOUNDARY: str = defaults.field_default(PopulationConfig, "boundary")
+STEP: float = defaults.field_default(PopulationConfig, "step")
+"""The personalisation study's grid: the population study's, on which every worker's optimum
+(and so the prior) was found."""
+ORACLES = ("twin", "ask", "file")
+POLL_S = 1.0
+PAUSED = 3
+"""The exit code of a session that paused before its end because standard input ended: every
+answer is saved and a rerun resumes (not 0: the session has no recommendation yet; not 130:
+no signal stopped it)."""
+STATE = "state.json"
+PROPOSAL = "proposal.csv"
+
+DESCRIPTION = f"""\
+Find one worker's own handover location in a few real handovers: a searcher proposes a location,
+the score observed there is its answer, and the next proposal uses every answer so far. The
+score is --objective's: with --oracle ask an ergonomist types it (or 'x' where the worker cannot
+take the box, or a Posture CSV row to score); --oracle file reads 'TRIAL,ANSWER' lines that
+another program appends to --answers; --oracle twin lets the worker's twin answer (a
+demonstration). The searcher starts from the worker's expected optimum (the population prior:
+stature and sex) unless --no-prior.
+The state is saved after every answer (--state): a session stopped before its end resumes where
+it stopped when the same command is run again (with --output or --state; without them, the
+command names the folder to resume from). Standard input ending pauses it with exit code {PAUSED};
+Ctrl-C and kill stop it with 130 and 143, every answer kept.
+At the end: the recommended location (the lowest score observed, the earliest of equals), its
+score and the trials used; trials.csv, recommendation.csv and manifest.json are written into
+--output (default: a new runs/personalise/<timestamp>/). See docs/personalise.md."""
+
+
+def add_parser(subparsers) -> None:
+    from ..landscape.grid import BOUNDARY_NAMES
+
+    parser = subparsers.add_parser(
+        "personalise", help="find one worker's handover location with real handovers",
+        description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    answers = parser.add_argument_group("answers")
+    answers.add_argument("--oracle", required=True, type=choice(ORACLES),
+                         metavar="|".join(ORACLES), help="who answers each proposal: the "
+                         "worker's twin, a person at the terminal, or --answers")
+    answers.add_argument("--answers", type=output_file, metavar="CSV",
+                         help="with --oracle file: the file of 'TRIAL,ANSWER' lines (it may not "
+                         "exist yet); the pending proposal is written to proposal.csv in "
+                         "--output")
+    answers.add_argument("--poll", type=number(0, None, "s", above=True), default=POLL_S,
+                         metavar="S", help="with --oracle file: seconds between looks at "
+                         f"--answers (default: {POLL_S:g})")
+    search = parser.add_argument_group("search")
+    names = registered_searchers()
+    search.add_argument("--searcher", type=choice(names), default=DEFAULT_SEARCHER,
+                        metavar="|".join(names), help="the ask/tell searcher "
+                        f"(default: {DEFAULT_SEARCHER}, the one that needed the fewest "
+                        "handovers in the personalisation study)")
+    search.add_argument("--no-prior", action="store_true",
+                        help="start without the population prior (default: start from it)")
+    search.add_argument("--trials", type=whole(1), default=DEFAULT_TRIALS, metavar="N",
+                        help="real handovers in all, those of a resumed session included "
+                        f"(default: {DEFAULT_TRIALS})")
+    search.add_argument("--target", type=number(0, None), metavar="SCORE",
+                        help="end as soon as a score at or below SCORE is observed (default: "
+                        "run the trials out)")
+    search.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="K",
+                        help=f"the searcher's seed, an integer >= 0 (default: {defaults.SEED})")
+    search.add_argument("--objective", type=choice(OBJECTIVES), default=defaults.OBJECTIVE,
+                        metavar="|".join(OBJECTIVES),
+                        help="what an answered score is, the searcher minimises it (an "
+                        f"ergonomist reading REBA: reba) (default: {defaults.OBJECTIVE}, the "
+                        "study's)")
+    search.add_argument("--boundary", type=boundary(BOUNDARY_NAMES), default=BOUNDARY,
+                        metavar="|".join(BOUNDARY_NAMES) + "|X0,X1,Y0,Y1,Z0,Z1",
+                        help=f"where locations may be proposed (default: {BOUNDARY}, the "
+                        "personalisation study's)")
+    search.add_argument("--step", type=number(0, None, "m", above=True), default=STEP,
+                        metavar="S", help=f"grid step [m] (default: {STEP:g}, the "
+                        "personalisation study's)")
+    add_evaluator_arguments(parser)
+    files = parser.add_argument_group("files")
+    files.add_argument("--state", type=output_file, metavar="FILE",
+                       help=f"the session's state, saved after every answer and resumed from "
+                       f"when it exists (default: --output's {STATE})")
+    add_output_folder_argument(files, "result directory (created if needed; default: the "
+                               "folder of --state if given, else a new "
+                               "runs/personalise/<timestamp>/)")
+    parser.set_defaults(run=run)
+
+
+def check(args: argparse.Namespace) -> None:
+    """What takes two flags: a one-line InputError naming them."""
+    flags = given(args)
+    if args.oracle == "file" and args.answers is None:
+        raise InputError("--oracle file needs --answers CSV (the file answers are appended to)")
+    for dest in ("answers", "poll"):
+        if dest in flags and args.oracle != "file":
+            raise InputError(f"--{dest} cannot be used with --oracle {args.oracle} (only with "
+                             "--oracle file)")
+    if args.answers == "-":
+        raise InputError("--answers -: not a file (with standard input, use --oracle ask)")
+    if args.state == "-":
+        raise InputError("--state -: not a file (the state is read back on resume)")
+    described = {"stature", "sex"} <= flags or "percentile" in flags
+    if args.oracle != "twin" and not described:
+        raise InputError(f"--oracle {args.oracle} needs the worker: give --stature M and --sex "
+                         "female|male (or --percentile NAME)")
+
+
+def registered_searchers() -> tuple[str, ...]:
+    """Every ask/tell searcher's name (registering them imports no library: each loads its own
+    when made)."""
+    from ..learning import searchers  # noqa: F401  (registers the library-backed searchers)
+    from ..learning.ask_tell import SEARCHERS
+
+    return tuple(SEARCHERS)
+
+
+def worker_prior(args: argparse.Namespace, evaluator):
+    """The population model and the worker's prior from it (None, None with --no-prior)."""
+    if args.no_prior:
+        return None, None
+    from ..learning.prior import shipped_prior
+
+    body = evaluator.body
+    population = shipped_prior()
+    if population.objective != args.objective:
+        print(f"note: the prior predicts the {population.objective} optimum; it is the starting "
+              f"point for {args.objective} too", file=sys.stderr)
+    return population, model(population.predict, body.stature_m, body.sex)
+
+
+def places(args: argparse.Namespace) -> tuple[Path | None, Path | None]:
+    """The output folder and the state file the flags name (None, None: neither is named)."""
+    if args.output is not None:
+        output = Path(args.output)
+        return output, Path(args.state) if args.state else output / STATE
+    if args.state is not None:
+        return Path(args.state).parent, Path(args.state)
+    return None, None
+
+
+SETTING_FLAGS = {"searcher": "--searcher", "seed": "--seed", "objective": "--objective",
+                 "grid": "--boundary, --step", "prior": "--no-prior",
+                 "evaluator.body": "the worker's flags", "evaluator.task": "the task flags",
+                 "evaluator.solver": "--solver", "evaluator.trunk_reference": "--trunk-reference"}
+
+
+def open_session(args, state: Path, settings: dict, searcher):
+    """The session saved in ``state`` (or a new one there), ``searcher`` told its history; a
+    state that is not this command's is refused naming the flag that differs."""
+    from ..learning.session import Session, StateError, StateMismatch
+
+    named = f"--state {state}" if args.state else f"--output {args.output}"
+    try:
+        session = Session.open(state, settings)
+        session.resume(searcher)
+    except (StateError, ConfigError) as exc:  # ConfigError: a history the searcher disowns
+        raise InputError(f"{named}: {exc}") from None
+    except StateMismatch as exc:
+        flag = next((f" ({f})" for k, f in SETTING_FLAGS.items() if exc.key.startswith(k)), "")
+        raise InputError(f"{named}: its session was made with {exc.key} = {exc.old!r}, this "
+                         f"command has {exc.new!r}{flag}: rerun that session's command to "
+                         "resume it, or give another --state") from None
+    return session
+
+
+def build_oracle(args, grid, evaluator, reader, output: Path):
+    from ..learning.oracles import AskOracle, FileOracle, TwinOracle
+
+    if args.oracle == "twin":
+        return TwinOracle(grid, evaluator, args.objective)
+    if args.oracle == "ask":
+        return AskOracle(reader)
+    return FileOracle(Path(args.answers), reader, args.poll, output / PROPOSAL)
+
+
+def resolve(args: argparse.Namespace):
+    """The evaluator, grid, prior and searcher the flags describe, and the settings a state
+    must match; every refusal is one line naming the flags."""
+    from ..learning.answers import SCORE_RANGES
+    from ..learning.ask_tell import make_searcher
+
+    check(args)
+    evaluator = evaluator_from_args(args)
+    grid = grid_from_args(evaluator, args.boundary, args.step)
+    if args.trials > grid.size:
+        raise InputError(f"--trials {args.trials}: more than the grid's {grid.size} locations "
+                         "(--boundary, --step)")
+    lo, hi = SCORE_RANGES[args.objective]
+    if args.target is not None and not lo <= args.target <= hi:
+        raise InputError(f"--target {args.target:g}: outside {rule(lo, hi)}, the range of "
+                         f"--objective {args.objective}")
+    population, prior = worker_prior(args, evaluator)
+    try:
+        searcher = make_searcher(args.searcher, grid, args.seed, prior)
+    except ConfigError as exc:
+        raise InputError(f"--searcher {args.searcher}: {exc}") from None
+    # The prior's model, not its prediction: the worker is in "evaluator", and a state read on
+    # another machine must not differ in a prediction's last bit.
+    settings = {"searcher": args.searcher, "seed": args.seed, "objective": args.objective,
+                "evaluator": dataclasses.asdict(evaluator), "grid": dataclasses.asdict(grid),
+                "prior": None if population is None else population.to_dict()}
+    return evaluator, grid, prior, searcher, settings
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..learning.answers import AnswerReader
+    from ..learning.oracles import AnswersEnded
+    from ..learning.session import run as run_session
+
+    started = time.perf_counter()
+    evaluator, grid, prior, searcher, settings = resolve(args)
+    output, state = places(args)
+    new_folder = output is None
+    if new_folder:  # only now, every flag checked: a folder of its own
+        output = run_folder("personalise")
+        state = output / STATE
+    session = open_session(args, state, settings, searcher)
+    reader = AnswerReader(args.objective, evaluator.scoring, session.posture_header)
+    oracle = build_oracle(args, grid, evaluator, reader, output)
+    introduce(args, evaluator, grid, prior, session)
+    resume = "the same command" + (f" with --output {output}" if new_folder else "")
+    try:
+        stopped = run_session(session, searcher, oracle, args.trials, args.target,
+                              say=lambda text: print(text, flush=True))
+    except AnswersEnded:
+        print(f"personalise: standard input ended before trial {len(session.trials) + 1}'s "
+              f"answer; {saved(session, resume)}", file=sys.stderr)
+        tidy(output, session, new_folder)
+        return PAUSED
+    except KeyboardInterrupt:
+        print(f"personalise: {saved(session, resume)}", file=sys.stderr)
+        tidy(output, session, new_folder)
+        raise
+    oracle.finish()
+    best = session.best()
+    report(args, session, best, stopped)
+    config = {**settings, "prior_location": None if prior is None else list(prior.location)}
+    for path in write_outputs(args, session, best, stopped, output, config, started):
+        print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
+def saved(session, resume: str) -> str:
+    """What a paused session kept, and how to resume it."""
+    count = len(session.trials)
+    if not count:
+        return "no trial was answered, nothing is saved"
+    return (f"{count} trial{'s' * (count != 1)} saved in {session.path}: rerun {resume} to "
+            "resume")
+
+
+def tidy(output: Path, session, new_folder: bool) -> None:
+    """Remove the new output folder of a session stopped before its first answer."""
+    if new_folder and not session.history and not any(output.iterdir()):
+        output.rmdir()
+
+
+def introduce(args, evaluator, grid, prior, session) -> None:
+    """The session's settings on standard error, and where a resumed one resumes."""
+    from ..learning.oracles import in_cm
+
+    body = evaluator.body
+    start = "no prior" if prior is None else f"prior at {in_cm(prior.location)}"
+    print(f"personalise: worker {body.stature_m:g} m, {body.sex}; {grid.describe()}; searcher "
+          f"{args.searcher} (seed {args.seed}, {start}); {args.objective}; {args.trials} "
+          f"trials; state {session.path}", file=sys.stderr)
+    if session.history:
+        print(f"personalise: resuming after trial {len(session.trials)}", file=sys.stderr)
+
+
+def ending(args, session, stopped: str) -> str:
+    """How many trials were used and why the session ended, in words."""
+    used = f"{len(session.trials)} of {args.trials} trials used"
+    if stopped == "target":
+        return f"{used}: --target {args.target:g} reached"
+    return used + {"budget": "", "grid": ": every location of the grid tried",
+                   "searcher": ": the searcher proposed only known locations"}[stopped]
+
+
+def report(args, session, best, stopped: str) -> None:
+    """The recommendation on standard output."""
+    from ..learning.oracles import in_cm
+
+    if best is None:
+        print(f"no recommendation: the worker could take the box at none of the locations "
+              f"tried; {ending(args, session, stopped)}", flush=True)
+        return
+    print(f"recommended: hand the box at {in_cm(best.location)}: {args.objective} "
+          f"{best.score:g}, observed at trial {best.trial}; {ending(args, session, stopped)}",
+          flush=True)
+
+
+def write_outputs(args, session, best, stopped: str, output: Path, settings: dict,
+                  started: float) -> list[Path]:
+    """trials.csv, recommendation.csv (when a location was feasible) and manifest.json (with
+    ``settings``)."""
+    import pandas as pd
+
+    output.mkdir(parents=True, exist_ok=True)
+    paths = [atomic_write_csv(session.table(), output / "trials.csv")]
+    summary = {"trials_used": len(session.trials), "ended_by": stopped, "recommendation": None}
+    if best is not None:
+        x, y, z = best.location
+        row = {"x": x, "y": y, "z": z, "objective": args.objective, "score": best.score,
+               "trial": best.trial, "trials_used": len(session.trials)}
+        paths.append(atomic_write_csv(pd.DataFrame([row]), output / "recommendation.csv"))
+        summary["recommendation"] = row
+    config = {**settings, "oracle": args.oracle, "answers": args.answers, "trials": args.trials,
+              "target": args.target, "state": str(session.path), "output": str(output)}
+    paths.append(write_manifest(output, config, seeds={"searcher": args.seed},
+                                wall_time_s=time.perf_counter() - started,
+                                extra={"summary": summary}))
+    return paths

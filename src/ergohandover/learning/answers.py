@@ -1,0 +1,130 @@
+"""What a person may answer for one proposed handover, and how each answer becomes a score.
+
+In the field the score at a location comes from whoever watched the handover: an ergonomist
+who read the score off the worker's posture, or a posture-capture tool that measured the angles.
+So an answer is one line, one of:
+
+- a score of the objective, within its range (:data:`SCORE_RANGES`); a fraction is allowed
+  (the mean of two raters' scores);
+- ``x`` (or ``infeasible``): the worker could not take the box there;
+- a Posture CSV row (comma-separated, the columns of docs/architecture.md, "File contracts"),
+  scored with the package's scorers exactly as ``ergohandover score`` scores that row. Its
+  values are in the contract's order (the 24 required columns, or all 35) unless a header line
+  (the column names, as a posture file's first line) was given before: then in that order.
+
+Anything else is refused with one line saying what was typed and what is allowed, so that the
+person can answer again; nothing is guessed.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import NamedTuple
+
+from ..ergonomics import ScoringSettings, score_postures
+from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS, PostureError
+from ..errors import ErgohandoverError
+from ..io.csv_input import InputError
+from ..io.posture_csv import read_postures
+
+SCORE_RANGES = {"paper_postural": (3, 14), "reba": (1, 15), "reba_ab": (2, 24), "rula": (1, 7)}
+"""The lowest and highest value each objective can take. Highest: as
+:data:`ergohandover.envs.scores.SCORE_MAX`. Lowest: the paper's score adds neck (>= 1), trunk
+(>= 1), legs (>= 1), hands above the neck (>= 0) and an arm (>= 0); REBA's and RULA's final
+scores start at 1; Table A and Table B of REBA start at 1 each."""
+INFEASIBLE = ("x", "infeasible")
+"""The answers saying that the worker could not take the box at the location."""
+
+
+class Refused(ErgohandoverError, ValueError):
+    """An answer that is not one; the message is one line naming it and what is allowed."""
+
+
+class Answer(NamedTuple):
+    """A score (``math.inf``: infeasible), how it was given (score, infeasible, posture, twin)
+    and the answer as given (what the session records)."""
+
+    score: float
+    kind: str
+    text: str
+
+
+class AnswerReader:
+    """Turns answer lines into scores of ``objective``; remembers a posture header line.
+
+    Args:
+        objective: what a score answer is (one of :data:`SCORE_RANGES`).
+        scoring: the settings posture rows are scored with (``ergohandover score``'s defaults
+            unless the session's evaluator says otherwise).
+        header: the column names of posture rows, from an earlier header line (None: the
+            contract's order).
+    """
+
+    def __init__(self, objective: str, scoring: ScoringSettings | None = None,
+                 header: tuple[str, ...] | None = None):
+        self.objective = objective
+        self.lo, self.hi = SCORE_RANGES[objective]
+        self.scoring = scoring or ScoringSettings()
+        self.header = header
+
+    @property
+    def prompt(self) -> str:
+        return (f"score ({self.objective} {self.lo}-{self.hi}), 'x' if the worker cannot take "
+                "it there, or a posture CSV row: ")
+
+    @property
+    def expected(self) -> str:
+        return (f"a {self.objective} score {self.lo}-{self.hi}, x if the worker cannot take the "
+                "box there, or a posture CSV row")
+
+    def read(self, line: str) -> Answer | None:
+        """The answer of ``line``, or None for a posture header line (noted for the rows that
+        follow); :class:`Refused` if it is not an answer."""
+        text = line.strip()
+        if not text:
+            raise Refused(f"nothing typed: expected {self.expected}")
+        if text.lower() in INFEASIBLE:
+            return Answer(math.inf, "infeasible", text)
+        if "," in text:
+            return self._posture(text)
+        try:
+            value = float(text)
+        except ValueError:
+            raise Refused(f"{text!r} is not an answer: expected {self.expected}") from None
+        if not (math.isfinite(value) and self.lo <= value <= self.hi):
+            raise Refused(f"{text!r} is outside {self.lo}-{self.hi}, the range of "
+                          f"{self.objective}: expected {self.expected}")
+        return Answer(value, "score", text)
+
+    def _posture(self, text: str) -> Answer | None:
+        cells = [cell.strip() for cell in text.split(",")]
+        if any(cell in POSTURE_COLUMNS for cell in cells):
+            self.header = self._header(cells)
+            return None
+        columns = self.header or {len(REQUIRED_COLUMNS): REQUIRED_COLUMNS,
+                                  len(POSTURE_COLUMNS): POSTURE_COLUMNS}.get(len(cells))
+        if columns is None or len(columns) != len(cells):
+            after = (f"the header line's {len(self.header)}" if self.header else
+                     f"{len(REQUIRED_COLUMNS)} (the required Posture columns, in the contract's "
+                     f"order) or {len(POSTURE_COLUMNS)} (all of them); or type a header line "
+                     "first")
+            raise Refused(f"a posture row of {len(cells)} values: expected {after}")
+        try:
+            _, posture = read_postures(io.StringIO(f"{','.join(columns)}\n{text}\n"),
+                                       what="the posture row")
+        except (InputError, PostureError) as exc:
+            raise Refused(str(exc)) from None
+        return Answer(float(score_postures(posture, self.scoring)[self.objective][0]),
+                      "posture", text)
+
+    @staticmethod
+    def _header(cells: list[str]) -> tuple[str, ...]:
+        missing = [c for c in REQUIRED_COLUMNS if c not in cells]
+        if missing:
+            raise Refused(f"a posture header line without column {missing[0]!r} (required: "
+                          f"{len(REQUIRED_COLUMNS)} columns, docs/architecture.md)")
+        twice = sorted({c for c in cells if cells.count(c) > 1})
+        if twice:
+            raise Refused(f"a posture header line naming {twice[0]!r} twice")
+        return tuple(cells)

@@ -1,0 +1,236 @@
+"""One worker's personalisation session: propose → observe → update, saved after every answer.
+
+Each trial is a real handover, so an answer must never be lost and a session must survive an
+interruption (a break, a closed terminal, Ctrl-C). The session's state is a small JSON file
+written atomically after every answer: the settings that fix what the searcher proposes and
+what a score means, and the history of what it was told. A searcher is deterministic given its
+seed and its history (:mod:`.ask_tell`), so a rerun with the same settings rebuilds it by
+:func:`~.ask_tell.replay` and proposes exactly what the interrupted session would have proposed
+next. A state made with other settings is refused: its answers would mean something else.
+
+State file (JSON)::
+
+    {"format": "ergohandover personalise state", "version": 1,
+     "settings": {"searcher", "seed", "objective", "evaluator", "grid", "prior"},
+     "posture_header": null or [column, ...],
+     "history": [{"trial": 1 (null: a repeat), "cell", "x", "y", "z" [m],
+                  "score" (null: infeasible), "answer", "answered_at"}, ...]}
+
+The history holds every answer the searcher was told, in order, repeats included: a searcher
+may propose a location it was told about before, and is then told the known answer again
+without a new handover (a repeat is no trial), as :func:`~.ask_tell.run_search` does.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from ..errors import ErgohandoverError
+from ..io.atomic import atomic_write
+from .ask_tell import Searcher, replay
+from .oracles import Oracle, Proposal
+
+FORMAT = "ergohandover personalise state"
+VERSION = 1
+ASKS_PER_TRIAL = 20
+"""Proposals allowed per trial, repeats included (as :func:`~.ask_tell.run_search`): a searcher
+that keeps proposing known locations ends the session instead of looping."""
+TRIAL_COLUMNS = ("trial", "x", "y", "z", "feasible", "score", "answer", "answered_at")
+
+
+class StateError(ErgohandoverError, ValueError):
+    """A state file that cannot be read as a session's state."""
+
+
+class StateMismatch(ErgohandoverError, ValueError):
+    """A state file made with other settings: ``key`` (dotted) was ``old``, is ``new``."""
+
+    def __init__(self, key: str, old: Any, new: Any):
+        super().__init__(f"its session has {key} = {old!r}, this one {new!r}")
+        self.key, self.old, self.new = key, old, new
+
+
+@dataclass(frozen=True)
+class Record:
+    """One answer the searcher was told: ``trial`` (None: a repeat of a known location),
+    the ``cell`` and its ``location`` [m], the ``score`` (``inf``: infeasible), the answer as
+    given and when [ISO 8601, UTC]."""
+
+    trial: int | None
+    cell: int
+    location: tuple[float, float, float]
+    score: float
+    answer: str
+    answered_at: str
+
+    def to_json(self) -> dict:
+        x, y, z = self.location
+        return {"trial": self.trial, "cell": self.cell, "x": x, "y": y, "z": z,
+                "score": self.score if math.isfinite(self.score) else None,
+                "answer": self.answer, "answered_at": self.answered_at}
+
+    @classmethod
+    def from_json(cls, data: dict) -> Record:
+        score = math.inf if data["score"] is None else float(data["score"])
+        return cls(None if data["trial"] is None else int(data["trial"]), int(data["cell"]),
+                   (float(data["x"]), float(data["y"]), float(data["z"])), score,
+                   str(data["answer"]), str(data["answered_at"]))
+
+
+def as_json(value: Any) -> Any:
+    """``value`` as it reads back from JSON (tuples become lists), to compare settings."""
+    return json.loads(json.dumps(value))
+
+
+def first_difference(old: Any, new: Any, key: str = "") -> tuple[str, Any, Any] | None:
+    """The first (dotted key, old, new) where two JSON values differ, or None."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        for name in [*old, *(k for k in new if k not in old)]:
+            found = first_difference(old.get(name), new.get(name),
+                                     f"{key}.{name}" if key else name)
+            if found:
+                return found
+        return None
+    return None if old == new else (key, old, new)
+
+
+class Session:
+    """The settings, the history and where they are saved.
+
+    Args:
+        path: the state file.
+        settings: what fixes the proposals and the meaning of a score (JSON values).
+    """
+
+    def __init__(self, path: Path, settings: dict, history: list[Record] | None = None,
+                 posture_header: tuple[str, ...] | None = None):
+        self.path, self.settings = Path(path), as_json(settings)
+        self.history = list(history or [])
+        self.posture_header = posture_header
+
+    @classmethod
+    def open(cls, path: Path, settings: dict) -> Session:
+        """The session saved at ``path`` if there is one (refused if made with other
+        settings), else a new one (nothing is written until the first answer)."""
+        path = Path(path)
+        if not path.exists():
+            return cls(path, settings)
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            kind, version = data.get("format"), data.get("version")
+        except (json.JSONDecodeError, UnicodeDecodeError, AttributeError) as exc:
+            raise unreadable(exc) from None
+        if kind != FORMAT:
+            raise StateError(f"not a personalise state file (format {kind!r})")
+        if version != VERSION:
+            raise StateError(f"state version {version!r}; this version of ergohandover reads "
+                             f"version {VERSION}")
+        try:
+            history = [Record.from_json(item) for item in data["history"]]
+            saved, header = data["settings"], data.get("posture_header")
+        except (KeyError, TypeError, ValueError) as exc:
+            raise unreadable(exc) from None
+        found = first_difference(saved, as_json(settings))
+        if found:
+            raise StateMismatch(*found)
+        return cls(path, settings, history, tuple(header) if header else None)
+
+    @property
+    def trials(self) -> list[Record]:
+        """The answers of real handovers (repeats left out), in order."""
+        return [r for r in self.history if r.trial is not None]
+
+    def best(self) -> Record | None:
+        """The trial of the lowest feasible score (the earliest of equals), or None."""
+        feasible = [r for r in self.trials if math.isfinite(r.score)]
+        return min(feasible, key=lambda r: r.score) if feasible else None
+
+    def resume(self, searcher: Searcher) -> Searcher:
+        """``searcher`` told this session's history, as it was told the first time."""
+        return replay(searcher, [(r.cell, r.score) for r in self.history])
+
+    def add(self, record: Record) -> None:
+        """Record an answer and save the state (atomically: the file is whole, old or new)."""
+        self.history.append(record)
+        self.save()
+
+    def save(self) -> None:
+        state = {"format": FORMAT, "version": VERSION, "settings": self.settings,
+                 "posture_header": list(self.posture_header) if self.posture_header else None,
+                 "history": [r.to_json() for r in self.history]}
+        text = json.dumps(state, indent=1) + "\n"
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write(self.path, lambda handle: handle.write(text))
+
+    def table(self) -> pd.DataFrame:
+        """One row per trial: :data:`TRIAL_COLUMNS` (score empty where infeasible)."""
+        rows = [{"trial": r.trial, "x": r.location[0], "y": r.location[1], "z": r.location[2],
+                 "feasible": int(math.isfinite(r.score)),
+                 "score": r.score if math.isfinite(r.score) else None, "answer": r.answer,
+                 "answered_at": r.answered_at} for r in self.trials]
+        return pd.DataFrame(rows, columns=list(TRIAL_COLUMNS))
+
+
+def unreadable(exc: Exception) -> StateError:
+    """A state file whose JSON is not a state's, with the parser's first line."""
+    detail = str(exc).splitlines()[0] if str(exc) else ""
+    return StateError(f"not a personalise state file ({type(exc).__name__}: {detail})")
+
+
+def now() -> str:
+    return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+
+
+def run(session: Session, searcher: Searcher, oracle: Oracle, budget: int,
+        target: float | None = None, say: Callable[[str], None] = print) -> str:
+    """Propose, ask ``oracle``, record and save, until the session ends; why it ended.
+
+    Args:
+        session: its state (``searcher`` has been told its history: :meth:`Session.resume`).
+        searcher: proposes the cells.
+        oracle: answers each proposal (may raise :class:`~.oracles.AnswersEnded` or
+            KeyboardInterrupt: every answer before is saved).
+        budget: trials (real handovers) in all, those of the history included.
+        target: end at the first score at or below it (None: run the budget out).
+        say: shows each proposal.
+
+    Returns:
+        ``budget``, ``target`` (reached), ``grid`` (every location tried) or ``searcher`` (it
+        kept proposing known locations).
+    """
+    grid = searcher.grid
+    known = {r.cell: r.score for r in session.history}
+    while True:
+        trials = session.trials
+        if target is not None and any(r.score <= target for r in trials):
+            return "target"
+        if len(trials) >= budget:
+            return "budget"
+        if len(known) >= grid.size:
+            return "grid"
+        if len(session.history) >= ASKS_PER_TRIAL * budget:
+            return "searcher"
+        cell = int(searcher.ask())
+        location = tuple(round(float(v), 9) for v in grid.coordinates([cell])[0])  # no 1e-17s
+        if cell in known:  # no new handover: the known answer again
+            first = next(r.trial for r in trials if r.cell == cell)
+            session.add(Record(None, cell, location, known[cell], f"repeat of trial {first}",
+                               now()))
+            searcher.tell(cell, known[cell])
+            continue
+        proposal = Proposal(len(trials) + 1, budget, cell, location)
+        say(proposal.describe())
+        answer = oracle.answer(proposal)
+        session.posture_header = oracle.header
+        known[cell] = answer.score
+        # Saved before the searcher hears it: an interruption in between loses nothing.
+        session.add(Record(proposal.trial, cell, location, answer.score, answer.text, now()))
+        searcher.tell(cell, answer.score)

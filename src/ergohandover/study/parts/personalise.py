@@ -1,0 +1,139 @@
+"""Study part `personalise`: which method finds *this* worker's optimum in the fewest handovers?
+
+A handover location is personal, and on a site or in VR each evaluation is a real handover with
+a person. On the population study's first workers (each with the twin's landscape on the
+population's grid standing in for the person), every searcher — the population prior alone,
+Bayesian optimisation (Optuna's GP sampler, the infeasible region as a constraint), TPE,
+CMA-ES, particle-swarm optimisation, Soft Actor-Critic, tabular Q-learning, a random walk and
+random sampling; ``+prior``: warm-started by the worker's prior — gets paired, seeded runs
+until it evaluates a cell at the worker's own minimum of the objective or spends the largest
+budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
+within B evaluations).
+
+Writes results/personalise/:
+  workers.csv   each worker: body, own optimum (score, cells at it, share of the grid), its
+                leave-one-out prior and how far the prior lies from the nearest optimum cell
+  runs.csv      one row per worker, searcher and run: evaluations to the optimum and to within
+                one point of it (NaN: not within the searcher's largest budget), best found
+  summary.csv   per searcher, target (optimum, within_1) and budget: workers, runs, share
+                of runs that reached the target (95 % interval: bootstrap over workers, at
+                least Wilson's), median evaluations to the optimum and to within one point
+  curves.csv    share of runs at the target within n evaluations, per searcher
+  manifest.json
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+from ...envs.scores import objective_values
+from ...io.atomic import atomic_write_csv
+from ...landscape.cache import Landscape
+from ...twin.evaluate import Evaluator
+from ..config import StudyConfig
+from ..engines import Engine
+from ..personalise import (
+    PersonaliseJob,
+    base_name,
+    leave_one_out_priors,
+    run_personalise_job,
+    run_seeds,
+    success_curves,
+    summary,
+)
+from ..resume import run_part
+from ..workforce import bodies
+from . import population as population_part
+from .population import workforce_of
+from .shared import grid_of, landscapes
+
+COSTLY = ("bo", "sac", "tpe")
+"""Searchers by cost per evaluation, the costliest first (experiments/bench_searchers.py)."""
+
+
+def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
+                 objective: str) -> pd.DataFrame:
+    """workers.csv: each worker's body, own optimum and prior."""
+    rows = []
+    for (_, worker), landscape in zip(workers.iterrows(), found, strict=True):
+        values = objective_values(landscape, objective)
+        lowest = float(values.min())
+        cells = np.flatnonzero(values == lowest)
+        points = landscape.grid.coordinates(cells)
+        prior = priors[worker["worker"]]
+        miss = np.linalg.norm(points - np.asarray(prior.location), axis=1).min()
+        rows.append({"worker": worker["worker"], "sex": worker["sex"],
+                     "stature_m": worker["stature_m"],
+                     "elbow_height_m": worker["elbow_height_m"], "optimum_score": lowest,
+                     "optimum_cells": len(cells),
+                     "optimum_share": len(cells) / landscape.grid.size,
+                     "within_1_cells": int((values <= lowest + 1).sum()),
+                     "prior_x": prior.location[0], "prior_y": prior.location[1],
+                     "prior_z": prior.location[2],
+                     "prior_to_optimum_m": round(float(miss), 6)})
+    return pd.DataFrame(rows)
+
+
+def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
+    population_part.run(config, results, engine)  # reused when finished
+    part = config.personalise
+
+    def work(folder: Path) -> dict:
+        table = workforce_of(config.population)
+        population = pd.read_csv(results / "population" / "workers.csv")
+        task = config.task()
+        evaluators = [Evaluator(body, task) for body in bodies(table)]
+        grid = grid_of(evaluators[-1], config.population.boundary, config.population.step)
+        chosen = table[table["reference"] == 0].head(part.workers)
+        evaluators = evaluators[:len(chosen)]
+        print(f"  {len(chosen)} workers of the population on {grid.describe()}")
+        found = landscapes(engine, evaluators, grid)  # the population's: from the cache
+        priors = leave_one_out_priors(population[population["reference"] == 0], part.objective)
+        workers = worker_table(chosen, found, priors, part.objective)
+        atomic_write_csv(workers, folder / "workers.csv")
+        largest = {s: max(part.budgets_of(s)) for s in part.searchers}
+        # The costly searchers first, so that the pool's processes finish together.
+        searchers = sorted(part.searchers, key=lambda s: COSTLY.index(base_name(s))
+                           if base_name(s) in COSTLY else len(COSTLY))
+        jobs = [PersonaliseJob(w, e, grid, part.objective, s, largest[s],
+                               run_seeds(part.seed, w, part.runs), priors[w])
+                for s in searchers for w, e in zip(chosen["worker"], evaluators, strict=True)]
+        print(f"  {len(part.searchers)} searchers x {len(chosen)} workers x {part.runs} runs, "
+              f"up to {max(largest.values()):,} evaluations each")
+        rows, started = [], time.perf_counter()
+        seconds: dict[str, float] = {}
+        with engine.executor() as executor, tqdm(total=len(jobs), desc="personalise",
+                                                 unit="job") as bar:
+            for index, done in executor.map_unordered(timed_job, jobs):
+                found_rows, took = done
+                rows += found_rows
+                name = jobs[index].searcher
+                seconds[name] = seconds.get(name, 0.0) + took
+                bar.update()
+        order = {s: i for i, s in enumerate(part.searchers)}
+        worker_order = {w: i for i, w in enumerate(chosen["worker"])}
+        runs = pd.DataFrame(rows).sort_values(
+            ["searcher", "worker", "run"], kind="stable", ignore_index=True,
+            key=lambda c: c.map(order) if c.name == "searcher" else
+            c.map(worker_order) if c.name == "worker" else c)
+        budgets = {s: part.budgets_of(s) for s in part.searchers}
+        atomic_write_csv(runs, folder / "runs.csv")
+        atomic_write_csv(summary(runs, budgets, part.seed), folder / "summary.csv")
+        atomic_write_csv(success_curves(runs, largest), folder / "curves.csv")
+        return {"runs": len(runs), "searcher_seconds": {k: round(v, 1)
+                                                        for k, v in seconds.items()},
+                "search_wall_s": round(time.perf_counter() - started, 1)}
+
+    return run_part("personalise", results / "personalise", config.part_inputs("personalise"),
+                    work, seeds={"runs": part.seed}, force=force, engine=engine)
+
+
+def timed_job(job: PersonaliseJob) -> tuple[list[dict], float]:
+    """A job's rows and its own time on one core [s] (the manifest's cost per searcher)."""
+    start = time.perf_counter()
+    return run_personalise_job(job), time.perf_counter() - start
