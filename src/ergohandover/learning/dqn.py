@@ -10,16 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import gymnasium as gym
-
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..errors import ConfigError
-from .qlearning import seeds_of
-from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
-from .watch import Watch
-
-UNBOUNDED_STEPS = 10**9
-"""``total_timesteps`` given to SB3 under a time cap only (the callback stops it first)."""
+from .sb3_run import learn_within
+from .trace import BLOCK, Budget, Progress, RunResult
 
 
 @dataclass(frozen=True)
@@ -74,41 +68,23 @@ def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
     Returns:
         The result; ``model`` holds the trained SB3 model.
     """
-    import torch
     from stable_baselines3 import DQN
-    from stable_baselines3.common.callbacks import BaseCallback
 
     cfg = config or DQNConfig()
     base: HandoverEnv = env.unwrapped
     if base.observation != "position":
         raise ConfigError("DQN needs the env's observation = 'position' (got "
                          f"{base.observation!r})")
-    torch.set_num_threads(cfg.threads)
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
-    watched = Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
 
-    class Caps(BaseCallback):
-        def _on_step(self) -> bool:
-            steps = self.num_timesteps
-            if steps % BLOCK == 0:
-                if progress:
-                    progress(steps, best.elapsed())
-                if best.elapsed() >= budget.time_limit:
-                    return False
-            return not best.reached and steps < budget.step_limit
+    def make(watched, total: int, env_seed: int):
+        return DQN("MlpPolicy", watched, learning_rate=cfg.learning_rate,
+                   buffer_size=cfg.buffer_size, learning_starts=cfg.learning_starts,
+                   batch_size=cfg.batch_size, gamma=cfg.gamma, train_freq=cfg.train_freq,
+                   target_update_interval=cfg.target_update_interval,
+                   exploration_fraction=min(1.0, cfg.exploration_steps / total),
+                   exploration_final_eps=cfg.exploration_final_eps,
+                   policy_kwargs={"net_arch": list(cfg.net_arch)}, seed=env_seed,
+                   device="cpu", verbose=0)
 
-    total = budget.steps if budget.steps is not None else UNBOUNDED_STEPS
-    env_seed, _ = seeds_of(seed)
-    model = DQN("MlpPolicy", watched, learning_rate=cfg.learning_rate,
-                buffer_size=cfg.buffer_size, learning_starts=cfg.learning_starts,
-                batch_size=cfg.batch_size, gamma=cfg.gamma, train_freq=cfg.train_freq,
-                target_update_interval=cfg.target_update_interval,
-                exploration_fraction=min(1.0, cfg.exploration_steps / total),
-                exploration_final_eps=cfg.exploration_final_eps,
-                policy_kwargs={"net_arch": list(cfg.net_arch)}, seed=env_seed, device="cpu",
-                verbose=0)
-    model.learn(total_timesteps=total, callback=Caps(), progress_bar=False)
-    if progress:
-        progress(model.num_timesteps, best.elapsed())
-    return finish("dqn", best, model.num_timesteps, budget, {},
-                  model=model)
+    return learn_within("dqn", base, make, budget, seed, cfg.episode_steps, cfg.threads, BLOCK,
+                        progress)

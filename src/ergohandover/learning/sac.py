@@ -12,15 +12,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import gymnasium as gym
-
 from ..envs.continuous_env import ContinuousHandoverEnv
 from ..envs.handover_env import EPISODE_STEPS
 from ..errors import ConfigError
-from .dqn import UNBOUNDED_STEPS
-from .qlearning import seeds_of
-from .trace import BestSoFar, Budget, Progress, RunResult, finish
-from .watch import Watch
+from .sb3_run import learn_within
+from .trace import Budget, Progress, RunResult
 
 CHECK_EVERY = 64
 """Steps between clock checks and progress updates: ~0.1-0.5 s of SAC (a few hundred steps/s),
@@ -77,38 +73,21 @@ def run_sac(env, budget: Budget, seed: int, config: SACConfig | None = None,
     Returns:
         The result; ``model`` holds the trained SB3 model.
     """
-    import torch
     from stable_baselines3 import SAC
-    from stable_baselines3.common.callbacks import BaseCallback
 
     cfg = config or SACConfig()
     base = env.unwrapped
     if not isinstance(base, ContinuousHandoverEnv):
         raise ConfigError("SAC needs the continuous-action env (ContinuousHandoverEnv), got "
                           f"{type(base).__name__}")
-    torch.set_num_threads(cfg.threads)
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
-    watched = Watch(gym.wrappers.TimeLimit(base, cfg.episode_steps), best)
 
-    class Caps(BaseCallback):
-        def _on_step(self) -> bool:
-            steps = self.num_timesteps
-            if steps % CHECK_EVERY == 0:
-                if progress:
-                    progress(steps, best.elapsed())
-                if best.elapsed() >= budget.time_limit:
-                    return False
-            return not best.reached and steps < budget.step_limit
+    def make(watched, total: int, env_seed: int):
+        return SAC("MlpPolicy", watched, learning_rate=cfg.learning_rate,
+                   buffer_size=cfg.buffer_size, learning_starts=cfg.learning_starts,
+                   batch_size=cfg.batch_size, gamma=cfg.gamma, tau=cfg.tau,
+                   train_freq=cfg.train_freq, gradient_steps=cfg.gradient_steps,
+                   ent_coef=cfg.ent_coef, policy_kwargs={"net_arch": list(cfg.net_arch)},
+                   seed=env_seed, device="cpu", verbose=0)
 
-    total = budget.steps if budget.steps is not None else UNBOUNDED_STEPS
-    env_seed, _ = seeds_of(seed)
-    model = SAC("MlpPolicy", watched, learning_rate=cfg.learning_rate,
-                buffer_size=cfg.buffer_size, learning_starts=cfg.learning_starts,
-                batch_size=cfg.batch_size, gamma=cfg.gamma, tau=cfg.tau,
-                train_freq=cfg.train_freq, gradient_steps=cfg.gradient_steps,
-                ent_coef=cfg.ent_coef, policy_kwargs={"net_arch": list(cfg.net_arch)},
-                seed=env_seed, device="cpu", verbose=0)
-    model.learn(total_timesteps=total, callback=Caps(), progress_bar=False)
-    if progress:
-        progress(model.num_timesteps, best.elapsed())
-    return finish("sac", best, model.num_timesteps, budget, {}, model=model)
+    return learn_within("sac", base, make, budget, seed, cfg.episode_steps, cfg.threads,
+                        CHECK_EVERY, progress)
