@@ -2,13 +2,13 @@
 
 A part is finished when its results/<part>/manifest.json matches its configuration and the
 twin's code: a fresh clone reuses every committed part and only rebuilds the figures and
-tables (half a minute); --force recomputes everything (29 minutes on 2 cores from an empty
+tables (half a minute); --force recomputes everything (44 minutes on 2 cores from an empty
 landscape cache); an interrupted run resumes at the first unfinished part.
 
 Parts, in order:
   landscape     the exhaustive sweep of the default worker (the paper's 3-hour evaluation)
   learning      Q-learning (two temperatures), DQN, a random walk, random sampling and
-                hill-climbing on budgets matched to the paper's caps, on nine targets
+                hill-climbing in paired runs on the paper's caps at three rates, nine targets
   baselines     the shortest-distance vs the learner's location from the paper's five starts
   ablations     human IK (the twin's whole-body solver vs PyBullet's)
   participants  the VR participant study, simulated with six workers of different sizes
@@ -27,6 +27,9 @@ ergohandover.study.config; --show-config prints the resolved one):
                 clock with its episode end, and DQN at the same caps: 40 capped runs, two at a
                 time on 2 cores, so 70 minutes of learning on top of the other parts; give it
                 --results of its own (its figures go there too)
+  population_1000.json  a workforce of 1,000 (for Ray: --only population --engine ray)
+  personalise_full.json  every searcher further, Bayesian optimisation also from scratch
+                (hours on 2 cores: --only personalise, on Ray)
 
 --only PART runs one part (repeatable) and redraws its figures. --engine ray [--address ...]
 runs every part's independent jobs (learning runs, the landscapes of workers and variants,
@@ -59,11 +62,11 @@ STEPS = (*PARTS, "figures")
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
                           "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 582, "personalise": 300,
+                          "validation": 1, "robustness": 826, "personalise": 632,
                           "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
-                        "robustness": 5, "personalise": 10, "figures": 22}}
+                        "robustness": 63, "personalise": 8, "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",

@@ -28,7 +28,8 @@ def manifest(part: str) -> dict:
 
 
 @pytest.mark.parametrize("part", ["landscape", "baselines", "ablations", "participants",
-                                  "population", "sensitivity", "robustness"])
+                                  "population", "sensitivity", "robustness",
+                                  "personalise"])
 def test_each_parts_estimate_is_within_30_percent_of_the_committed_runs_time(part):
     measured = manifest(part)["wall_time_s"]
     estimated = run_all_module().ESTIMATE_S["default"][part]

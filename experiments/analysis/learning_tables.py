@@ -193,6 +193,7 @@ def blocks(results) -> dict[str, str]:
     paper = paper_budgets(summary)
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"learning-claim": claim(summary, paper),
+            "learning-learns": learns(comparisons),
             "learning-targets": table(targets_table(targets)),
             "learning-tally": table(tally(comparisons)),
             "learning-verdicts": table(verdict_table(summary, comparisons, paper)),
@@ -213,6 +214,33 @@ def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> s
             f"the minimum ({score:g}) in {counts['qlearning']} runs, a random walk in "
             f"{counts['randomwalk']}, random sampling in {counts['random']}; rarer targets "
             "tell them apart: the learning study")
+
+
+def learns(comparisons: pd.DataFrame) -> str:
+    """The headline table's answer to "does it learn?": each learner's verdicts against the
+    random walk and random sampling over every target and budget (Holm-corrected)."""
+    def counted(agent: str, versus: str) -> tuple[int, dict]:
+        rows = comparisons[(comparisons["agent"] == agent) & (comparisons["versus"] == versus)]
+        return len(rows), rows["verdict"].map(short_verdict).value_counts().to_dict()
+
+    q = comparisons[comparisons["agent"] == "qlearning"]
+    n_walk, walk = counted("qlearning", "randomwalk")
+    n_random, random = counted("qlearning", "random")
+    text = (f"over {q['target'].nunique()} targets and {q['budget'].nunique()} budgets (the "
+            f"paper's two caps at {q['mapping'].nunique()} rates, "
+            f"{int(q['n'].min())} paired runs each, Holm-corrected), tabular Q-learning beats "
+            f"a random walk in {walk.get('better', 0)} of {n_walk} comparisons (worse in "
+            f"{walk.get('worse', 0)}, equivalent within ±{100 * q['margin'].iloc[0]:g} points "
+            f"of success rate in {walk.get('≡', 0)}, no conclusion in {walk.get('–', 0)}) "
+            f"and random sampling in {random.get('better', 0)} of {n_random} (worse in "
+            f"{random.get('worse', 0)})")
+    if (comparisons["agent"] == "dqn").any():
+        n_dqn, dqn = counted("dqn", "randomwalk")
+        n_dqn_random, dqn_random = counted("dqn", "random")
+        runs = int(comparisons.loc[comparisons["agent"] == "dqn", "n"].min())
+        text += (f"; DQN ({runs} runs) beats the walk in {dqn.get('better', 0)} of {n_dqn} and "
+                 f"random sampling in {dqn_random.get('better', 0)} of {n_dqn_random}")
+    return text
 
 
 def tally(comparisons: pd.DataFrame) -> list[str]:

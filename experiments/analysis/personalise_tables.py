@@ -12,10 +12,10 @@ from pathlib import Path
 import pandas as pd
 from readme_blocks import rewrite
 
-NAMES = {"random": "random sampling", "prior": "population prior alone",
+NAMES = {"random": "random sampling", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
-         "pso": "particle swarm", "qlearning": "tabular Q-learning (the paper's)",
-         "randomwalk": "random walk", "sac": "Soft Actor-Critic"}
+         "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
+         "randomwalk": "a random walk", "sac": "Soft Actor-Critic"}
 
 
 def label(searcher: str) -> str:
@@ -79,10 +79,10 @@ def answer(summary: pd.DataFrame) -> str:
              f"{evals(first['median_evals_to_within_1'], first['budget'])}"]
     mine = summary[(summary["searcher"] == best) & (summary["target"] == "optimum")
                    ].set_index("budget")
-    for budget in (25, 50):
-        if budget in mine.index:
-            parts.append(f"within {budget} handovers it has found the optimum in "
-                         f"{mine.loc[budget, 'success_rate']:.0%} of runs")
+    within = [f"{mine.loc[b, 'success_rate']:.0%} of runs within {b}" for b in (10, 25, 50)
+              if b in mine.index]
+    if within:
+        parts.append("it has found the optimum in " + ", ".join(within) + " handovers")
     for other in ("random", "qlearning"):
         if other in ranked.index and other != best:
             row = ranked.loc[other]
@@ -96,7 +96,7 @@ def headline(summary: pd.DataFrame) -> str:
     random sampling's, the paper's learner's and Bayesian optimisation's."""
     ranked = ranking(summary).set_index("searcher")
     best, first = ranked.index[0], ranked.iloc[0]
-    text = (f"on {int(first['n_workers'])} sampled workers, the {label(best)} reaches the "
+    text = (f"on {int(first['n_workers'])} sampled workers, {label(best)} reaches the "
             f"worker's own optimum in a median of "
             f"{evals(first['median_evals_to_optimum'], first['budget'])} handovers")
     others = [f"{label(o)} {evals(row['median_evals_to_optimum'], row['budget'])}"

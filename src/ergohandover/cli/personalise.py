@@ -30,7 +30,7 @@ from .options import (
 from .parser import given
 from .values import boundary, choice, number, output_file, rule, whole
 
-DEFAULT_SEARCHER = "bo"
+DEFAULT_SEARCHER = "prior"
 """The searcher that needed the fewest handovers in the personalisation study
 (results/personalise/summary.csv picks it: its ``X+prior`` row is this command's ``--searcher
 X``, its ``X`` row is ``--searcher X --no-prior``)."""

@@ -72,9 +72,6 @@ default targets in that study: what a search run costs besides its start."""
 JOB_OVERHEAD_S = {"dqn": 1.5, "other": 0.01}
 """A run's cost besides its steps [s]: starting the agent (SB3 builds its networks), the
 rollouts, handing the result back to the pool."""
-TABLE_S_PER_CELL = 3.6e-8
-"""A tabular learner allocates its Q-table (6 doubles per cell) at the start of every run: 0.12
-s for the paper's 3.3 M-cell grid."""
 SERIAL_S = 25.0
 """The part's work outside the pool [s]: reading the targets' landscapes, the tables (the
 power's exact sums, the bootstrap bands)."""
@@ -146,9 +143,9 @@ def agent_jobs(learning: LearningConfig, target: Target, evaluator: Evaluator, g
 def job_seconds(job: RunJob) -> float:
     """A rough wall time of one job [s], for ordering and the estimate: its steps (a search
     run's typical ones when it stops at the target) at its agent's speed, plus its start."""
+    # A tabular learner's Q-table is allocated once per process and zeroed after each run
+    # (learning/qlearning.py), so it costs a run nothing more than its steps.
     overhead = JOB_OVERHEAD_S.get(job.agent, JOB_OVERHEAD_S["other"])
-    if agent(job.agent).policy == "table":
-        overhead += TABLE_S_PER_CELL * job.grid.size
     if job.time_cap_s is not None:
         return job.time_cap_s + overhead
     steps = job.steps

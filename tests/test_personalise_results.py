@@ -1,0 +1,103 @@
+"""The committed personalisation study: at least seven searchers (the population prior,
+Bayesian optimisation, CMA-ES, PSO, SAC, random sampling and the paper's Q-learning among them)
+on at least 30 workers with at least 10 paired runs each; every summary row read again from the
+runs; the report's blocks and the command's default searcher equal to what the results say."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
+import personalise_tables  # noqa: E402
+from readme_blocks import block  # noqa: E402
+
+FOLDER = ROOT / "results" / "personalise"
+REQUIRED = {"prior", "bo+prior", "cmaes", "pso", "sac", "random", "qlearning"}
+COLUMNS = ["searcher", "target", "budget", "n_workers", "n_runs", "success_rate", "ci_low",
+           "ci_high", "median_evals_to_optimum", "median_evals_to_within_1"]
+
+
+def read(name: str) -> pd.DataFrame:
+    return pd.read_csv(FOLDER / name, keep_default_na=False, na_values=[""])
+
+
+def test_the_summary_covers_the_searchers_workers_and_budgets_asked_for():
+    summary = read("summary.csv")
+    assert set(COLUMNS) <= set(summary.columns)
+    assert set(summary["searcher"]) >= REQUIRED and summary["searcher"].nunique() >= 7
+    assert (summary["n_workers"] >= 30).all()
+    assert (summary["n_runs"] >= 10 * summary["n_workers"]).all()
+    cheap = summary[summary["searcher"] == "random"]
+    assert set(cheap["budget"]) == {10, 25, 50, 100, 250, 1000}
+    assert set(summary["target"]) == {"optimum", "within_1"}
+
+
+def test_runs_are_paired_and_every_summary_row_is_read_from_them():
+    runs = read("runs.csv")
+    seeds = runs.groupby(["worker", "run"])["seed"].nunique()
+    assert (seeds == 1).all()  # run r of a worker: one seed for every searcher
+    summary = read("summary.csv")
+    for row in summary.itertuples():
+        mine = runs[runs["searcher"] == row.searcher]
+        evals = mine[f"evals_to_{row.target}"].to_numpy(float)
+        hit = ~np.isnan(evals) & (evals <= row.budget)
+        assert row.n_runs == len(mine) and row.successes == hit.sum()
+        assert row.success_rate == pytest.approx(hit.mean())
+        assert row.ci_low <= row.success_rate <= row.ci_high
+        # No evaluation count beyond the searcher's largest budget.
+        assert (mine["evaluations"] <= summary.loc[summary["searcher"] == row.searcher,
+                                                   "budget"].max()).all()
+    # Reaching the optimum reaches within one point of it, never later.
+    both = runs.dropna(subset=["evals_to_optimum"])
+    assert (both["evals_to_within_1"] <= both["evals_to_optimum"]).all()
+
+
+def test_the_optimum_found_is_each_workers_own_minimum():
+    runs, workers = read("runs.csv"), read("workers.csv").set_index("worker")
+    reached = runs.dropna(subset=["evals_to_optimum"])
+    assert (reached["best_score"] == workers.loc[reached["worker"], "optimum_score"].to_numpy()
+            ).all()
+    assert (runs["best_score"] >= workers.loc[runs["worker"], "optimum_score"].to_numpy()).all()
+    # The leave-one-out prior lies within a few centimetres of where the optimum is.
+    assert workers["prior_to_optimum_m"].median() < 0.08
+
+
+def test_the_report_blocks_and_the_commands_default_are_the_committed_results():
+    for name, made in personalise_tables.blocks(ROOT / "results").items():
+        assert block(name) == made, name
+    from ergohandover.cli import personalise
+
+    assert personalise_tables.best_searcher(
+        read("summary.csv")).removesuffix("+prior") == personalise.DEFAULT_SEARCHER
+
+
+def test_the_best_searcher_meets_the_target_or_the_report_says_it_does_not():
+    ranked = personalise_tables.ranking(read("summary.csv"))
+    best = ranked.iloc[0]
+    median = best["median_evals_to_optimum"]
+    answer = personalise_tables.answer(read("summary.csv"))
+    assert (not math.isnan(median)) and f"a median of {median:g}" in answer
+
+
+def test_the_manifest_records_the_seed_and_each_searchers_time():
+    manifest = json.loads((FOLDER / "manifest.json").read_text())
+    assert manifest["seeds"]["runs"] == manifest["config"]["personalise"]["seed"]
+    assert set(manifest["searcher_seconds"]) == set(read("summary.csv")["searcher"])
+
+
+def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
+    done = subprocess.run([sys.executable, "experiments/study_personalise.py", "--set",
+                           'personalise.budget_caps={"nope": 5}', "--results", str(tmp_path)],
+                          cwd=ROOT, capture_output=True, text=True)
+    assert done.returncode == 2
+    assert done.stderr.strip().count("\n") == 0 and "'nope' names no searcher" in done.stderr
+    assert not any(tmp_path.iterdir())
