@@ -60,9 +60,9 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 87, "baselines": 215, "ablations": 43,
+ESTIMATE_S = {"default": {"landscape": 87, "baselines": 223, "ablations": 43,
                           "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 826, "personalise": 632,
+                          "validation": 1, "robustness": 898, "personalise": 627,
                           "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
