@@ -26,7 +26,7 @@ from ergohandover.learning.ask_tell import (
 )
 from ergohandover.learning.prior import PopulationPrior, Prior, shipped_prior
 from ergohandover.study.personalise import (
-    censored_median,
+    censored_at,
     leave_one_out_priors,
     run_seeds,
     success_curves,
@@ -147,12 +147,12 @@ def test_runs_are_paired_across_searchers_and_differ_across_workers():
     assert set(run_seeds(28, "w001", 10)).isdisjoint(run_seeds(28, "w002", 10))
 
 
-def test_censored_median_ranks_misses_last():
-    assert censored_median(np.array([3.0, 5.0, np.nan]), 100) == 5.0
-    assert math.isnan(censored_median(np.array([3.0, np.nan, np.nan]), 100))
+def test_the_median_at_a_budget_ranks_misses_last():
+    assert censored_at(np.array([3.0, 5.0, np.nan]), 100) == 5.0
+    assert math.isnan(censored_at(np.array([3.0, np.nan, np.nan]), 100))
     # At a budget of 4 the run that needed 5 is a miss too.
-    assert math.isnan(censored_median(np.array([3.0, 5.0, 7.0]), 4))
-    assert censored_median(np.array([3.0, 5.0, 70.0]), 10) == 5.0
+    assert math.isnan(censored_at(np.array([3.0, 5.0, 7.0]), 4))
+    assert censored_at(np.array([3.0, 5.0, 70.0]), 10) == 5.0
 
 
 def test_the_summary_reads_every_budget_from_the_runs():

@@ -29,7 +29,7 @@ from ..landscape.grid import Grid
 from ..landscape.store import landscape_of
 from ..learning.ask_tell import SearchRecord, make_searcher, run_search
 from ..learning.prior import PopulationPrior, Prior
-from ..learning.statistics import wilson
+from ..learning.statistics import censored_median, wilson
 from ..twin.evaluate import Evaluator
 
 ENV_AGENTS = ("qlearning", "randomwalk", "sac")
@@ -131,13 +131,10 @@ def leave_one_out_priors(workers: pd.DataFrame, objective: str) -> dict[str, Pri
     return priors
 
 
-def censored_median(evaluations: np.ndarray, budget: int) -> float:
-    """Median evaluations to a target at ``budget``: runs that needed more count as never
-    (ranked last); NaN when half or more of the runs did not reach it within the budget."""
-    ranked = np.sort(np.where(np.isnan(evaluations) | (evaluations > budget), np.inf,
-                              evaluations))
-    median = float(np.median(ranked))
-    return median if math.isfinite(median) else math.nan
+def censored_at(evaluations: np.ndarray, budget: int) -> float:
+    """Median evaluations to a target at ``budget``: a run that needed more counts as never
+    reached (:func:`~ergohandover.learning.statistics.censored_median`'s rule)."""
+    return censored_median(np.where(evaluations > budget, np.nan, evaluations))
 
 
 def success_interval(per_worker: np.ndarray, successes: int, runs: int,
@@ -172,9 +169,9 @@ def summary(runs: pd.DataFrame, budgets: dict[str, list[int]], seed: int) -> pd.
                     "n_workers": table["worker"].nunique(), "n_runs": len(table),
                     "successes": int(hit.sum()), "success_rate": float(hit.mean()),
                     "ci_low": low, "ci_high": high,
-                    "median_evals_to_optimum": censored_median(
+                    "median_evals_to_optimum": censored_at(
                         table["evals_to_optimum"].to_numpy(float), budget),
-                    "median_evals_to_within_1": censored_median(
+                    "median_evals_to_within_1": censored_at(
                         table["evals_to_within_1"].to_numpy(float), budget)})
     return pd.DataFrame(rows)
 
