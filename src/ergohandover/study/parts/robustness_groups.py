@@ -9,6 +9,7 @@ import pandas as pd
 from tqdm import tqdm
 
 from ...landscape.stats import optimum
+from ...landscape.store import landscape_of
 from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
 from ...robustness.search import postures_at
 from ...twin.evaluate import Evaluator, evaluate
@@ -27,7 +28,7 @@ from ..robustness import (
 from ..sensitivity import variants
 from ..workforce import bodies
 from .population import workforce_of
-from .shared import default_landscape, grid_of, landscapes
+from .shared import grid_of, landscape, landscapes
 
 POPULATION_SDS = (0.0, 2.0, 5.0)
 """The posture-error SDs of the one-size against personal comparison [deg]."""
@@ -58,16 +59,16 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
     print(f"  {len(chosen)} model variants at the recommendations")
     found = landscapes(engine, evaluators, grid)
     points = named[["x", "y", "z"]].to_numpy(float)
-    regret, scored = [], []
-    for variant, evaluator, landscape in tqdm(zip(chosen, evaluators, found, strict=True),
-                                              total=len(chosen), unit="variant",
-                                              desc="variants at the recommendations"):
-        at = evaluate(points, evaluator)
-        own = {s: own_minimum(landscape, s) for s in SCORES}
+    with engine.executor() as executor:
+        scored = list(tqdm(executor.map(_evaluate_job, [(points, e) for e in evaluators]),
+                           total=len(chosen), unit="variant",
+                           desc="variants at the recommendations"))
+    regret = []
+    for variant, found_here, at in zip(chosen, found, scored, strict=True):
+        own = {s: own_minimum(found_here, s) for s in SCORES}
         mine = at[named["location"].isin(recommendations["location"]).to_numpy()]
         regret += regret_rows("sensitivity", variant.name, mine.reset_index(drop=True), own,
                               recommendations, SCORES)
-        scored.append(at)
     compared = []
     others = [b for b in named["location"] if b.startswith(("shortest", "practice"))]
     index = {name: i for i, name in enumerate(named["location"])}
@@ -85,21 +86,54 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
     return {"regret": pd.DataFrame(regret), "comparisons": pd.DataFrame(compared)}
 
 
+def _evaluate_job(job: tuple) -> pd.DataFrame:
+    """The twin of one variant at the headline locations."""
+    points, evaluator = job
+    return evaluate(points, evaluator)
+
+
 def participant_locations(config: StudyConfig, engine: Engine, seed: int) -> pd.DataFrame:
     """Each participant's nominal and robust location (the default worker on the landscape
-    part's grid, the others on the participants part's)."""
-    rows = []
-    for name in tqdm(dict.fromkeys([DEFAULT_WORKER, *config.participants.workers]),
-                     desc="participants' robust optima", unit="worker"):
+    part's grid, the others on the participants part's), a job per worker on the engine."""
+    names = list(dict.fromkeys([DEFAULT_WORKER, *config.participants.workers]))
+    jobs = []
+    for name in names:
         evaluator = config.evaluator(name)
         if name == DEFAULT_WORKER:
-            landscape, stride = default_landscape(config, engine), config.robustness.stride
+            grid = grid_of(evaluator, config.landscape.boundary, config.landscape.step)
+            landscape(engine, evaluator, grid)  # in the cache before the jobs read it
+            jobs.append((evaluator, grid, config.robustness, config.robustness.stride, seed))
         else:
             grid = grid_of(evaluator, config.landscape.boundary, config.participants.step)
-            landscape, stride = landscapes(engine, [evaluator], grid)[0], 1
-        rows.append({"source": "participants", "worker": name,
-                     **robust_pair(landscape, evaluator, config.robustness, stride, seed)})
-    return pd.DataFrame(rows)
+            landscapes(engine, [evaluator], grid)
+            jobs.append((evaluator, grid, config.robustness, 1, seed))
+    with engine.executor() as executor:
+        pairs = list(tqdm(executor.map(_participant_pair, jobs), total=len(jobs),
+                          desc="participants' robust optima", unit="worker"))
+    return pd.DataFrame([{"source": "participants", "worker": name, **pair}
+                         for name, pair in zip(names, pairs, strict=True)])
+
+
+def _participant_pair(job: tuple) -> dict:
+    """One participant's :func:`robust_pair`, its landscape read from the cache (a 3 mm
+    landscape is hundreds of megabytes: a job names it rather than carrying it)."""
+    evaluator, grid, part, stride, seed = job
+    return robust_pair(landscape_of(evaluator, grid, progress=False), evaluator, part, stride,
+                       seed)
+
+
+def _worker_job(job: tuple) -> tuple:
+    """One population worker's twin work: its scores at the recommendations, its nominal and
+    robust pair, and its postures at its personal optimum, the one-size cells and its practice
+    location (the Monte Carlo draws stay with the caller, in worker order)."""
+    evaluator, found, recs, part, seed, one_size_points = job
+    at = evaluate(recs, evaluator)
+    pair = robust_pair(found, evaluator, part, part.worker_stride, seed)
+    locations = np.stack([[pair["nominal_x"], pair["nominal_y"], pair["nominal_z"]],
+                          *one_size_points,
+                          practice_location(evaluator, evaluator.body.elbow_height_m)])
+    posture, feasible = postures_at(locations, evaluator)
+    return at, pair, posture, feasible
 
 
 def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.DataFrame,
@@ -134,19 +168,16 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
                                .astype(float)})]
     regret, personal, expected = [], [], []
     recs = recommendations[["x", "y", "z"]].to_numpy(float)
-    for w in tqdm(sampled, desc="workers: regret, robust optima", unit="worker"):
-        evaluator, landscape = evaluators[w], found[w]
+    one_size_points = [points[chosen["paper_postural"][c]] for c in CHOICES]
+    jobs = [(evaluators[w], found[w], recs, part, seed, one_size_points) for w in sampled]
+    with engine.executor() as executor:
+        done = list(tqdm(executor.map(_worker_job, jobs), total=len(jobs),
+                         desc="workers: regret, robust optima", unit="worker"))
+    for w, (at, pair, posture, feasible) in zip(sampled, done, strict=True):
         worker = str(table["worker"].iloc[w])
-        own = {s: own_minimum(landscape, s) for s in SCORES}
-        regret += regret_rows("population", worker, evaluate(recs, evaluator), own,
-                              recommendations, SCORES)
-        pair = robust_pair(landscape, evaluator, part, part.worker_stride, seed)
+        own = {s: own_minimum(found[w], s) for s in SCORES}
+        regret += regret_rows("population", worker, at, own, recommendations, SCORES)
         personal.append({"source": "population", "worker": worker, **pair})
-        locations = np.stack([
-            [pair["nominal_x"], pair["nominal_y"], pair["nominal_z"]],
-            *(points[chosen["paper_postural"][c]] for c in CHOICES),
-            practice_location(evaluator, evaluator.body.elbow_height_m)])
-        posture, feasible = postures_at(locations, evaluator)
         row = []
         for sd in POPULATION_SDS:
             mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.worker_draws, rng,
