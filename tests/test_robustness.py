@@ -25,7 +25,8 @@ from ergohandover.robustness.posture_error import (
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
 from ergohandover.study.config import RobustnessConfig
-from ergohandover.study.population import penalty_regression
+from ergohandover.study.one_size_resampling import OneSizeResampler
+from ergohandover.study.population import one_size_cells, penalty_regression
 from ergohandover.study.robustness import (
     difference,
     recommendations,
@@ -154,6 +155,28 @@ def test_a_one_size_choice_on_identical_workers_has_no_optimism():
     for row in rows:
         assert row["in_sample_mean_penalty"] == row["rechosen_mean_penalty"] == 0
         assert row["optimism"] == 0
+
+
+def test_resampled_one_size_cells_are_those_of_the_copied_resample():
+    # Whole-number scores with ties (the cases the tie-breaks decide), workers who cannot take
+    # the box at some cells, bootstrap draws with repeats and split halves of either size.
+    rng = np.random.default_rng(3)
+    workers, cells = 40, 300
+    scores = (rng.integers(3, 6, size=(1, cells)) + rng.integers(0, 3, size=(workers, cells))
+              ).astype(float)
+    scores[(rng.random((workers, cells)) < 0.2) & (rng.random(cells) < 0.3)] = np.nan
+    points = np.round(rng.uniform(-0.2, 0.6, size=(cells, 3)), 2)
+    resampler = OneSizeResampler(scores, points, reference_cell=7)
+    for draw in range(60):
+        rows = (rng.integers(workers, size=workers) if draw % 2 else
+                rng.permutation(workers)[: rng.integers(5, workers)])
+        expected = one_size_cells(scores[rows], points, 7)
+        assert resampler.cells(np.bincount(rows, minlength=workers)) == expected
+
+
+def test_resampled_one_size_cells_refuse_scores_that_are_not_whole_numbers():
+    with pytest.raises(ValueError, match="whole-number"):
+        OneSizeResampler(np.array([[1.5, 2.0]]), np.zeros((2, 3)), 0)
 
 
 @pytest.fixture(scope="module")

@@ -24,6 +24,7 @@ from ..robustness.posture_error import ErrorModel, expected_scores, monte_carlo
 from ..robustness.search import Search, postures_at, robust_optimum
 from ..twin.evaluate import Evaluator, evaluate
 from .config import RobustnessConfig
+from .one_size_resampling import OneSizeResampler
 from .population import CHOICES, one_size_cells
 
 ROBUST_SCORE = "paper_postural"
@@ -196,22 +197,27 @@ def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
     the workers; chosen on a random half and scored on the other half (``splits`` times)."""
     w = scores.shape[0]
     chosen = one_size_cells(scores, points, reference_cell)
+    resampler = OneSizeResampler(scores, points, reference_cell)
+
+    def penalty(rows: np.ndarray, cell: int) -> float:  # penalty_at on the rows, one column
+        return float(np.nanmean(scores[rows, cell] - own[rows]))
+
     boot = {c: np.empty(resamples) for c in CHOICES}
     for b in range(resamples):
         pick = rng.integers(w, size=w)
-        cells = one_size_cells(scores[pick], points, reference_cell)
+        cells = resampler.cells(np.bincount(pick, minlength=w))
         for c in CHOICES:
-            boot[c][b] = np.nanmean(penalty_at(scores[pick], own[pick], cells[c]))
+            boot[c][b] = penalty(pick, cells[c])
     held_out = {c: np.empty(splits) for c in CHOICES}
     in_half = {c: np.empty(splits) for c in CHOICES}
     for s in range(splits):
         order = rng.permutation(w)
         train, test = order[: w // 2], order[w // 2:]
-        cells = one_size_cells(scores[train], points, reference_cell)
-        own_cells = one_size_cells(scores[test], points, reference_cell)
+        cells = resampler.cells(np.bincount(train, minlength=w))
+        own_cells = resampler.cells(np.bincount(test, minlength=w))
         for c in CHOICES:
-            held_out[c][s] = np.nanmean(penalty_at(scores[test], own[test], cells[c]))
-            in_half[c][s] = np.nanmean(penalty_at(scores[test], own[test], own_cells[c]))
+            held_out[c][s] = penalty(test, cells[c])
+            in_half[c][s] = penalty(test, own_cells[c])
     rows = []
     for c in CHOICES:
         penalty = penalty_at(scores, own, chosen[c])
