@@ -62,7 +62,7 @@ STEPS = (*PARTS, "figures")
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 223, "ablations": 43,
                           "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 898, "personalise": 627,
+                          "validation": 1, "robustness": 525, "personalise": 627,
                           "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
