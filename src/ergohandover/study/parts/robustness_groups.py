@@ -115,8 +115,9 @@ def participant_locations(config: StudyConfig, engine: Engine, seed: int) -> pd.
 
 
 def _participant_pair(job: tuple) -> dict:
-    """One participant's :func:`robust_pair`, its landscape read from the cache (a 3 mm
-    landscape is hundreds of megabytes: a job names it rather than carrying it)."""
+    """One participant's :func:`robust_pair`, its landscape read from the cache (the 3 mm
+    landscape is about 160 MB: a job names it rather than carrying it; where the cache lacks it,
+    as on another machine of a cluster, the job sweeps it there)."""
     evaluator, grid, part, stride, seed = job
     return robust_pair(landscape_of(evaluator, grid, progress=False), evaluator, part, stride,
                        seed)
