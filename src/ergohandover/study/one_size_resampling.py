@@ -8,8 +8,9 @@ observed score, K fixed by the resample's size) is the smallest score value ``v`
 ``m @ (scores <= v)`` reaches K. Scores are whole numbers of a few values, so the lowest 95th
 percentile of the grid is found by counting up from the lowest value and stopping at the first
 value some cell reaches: a few products of the multiplicities with a (W, C) mask instead of a
-sort of the resample's (W', C) copy. The cells chosen are those of ``one_size_cells`` on the
-copied resample (tested); only the time differs (in the robustness part's 1,350 resamples of
+sort of the resample's (W', C) copy. The choice among them is ``one_size_cells``'s own rule
+(:func:`.population.chosen_cells`), so the cells are those of ``one_size_cells`` on the copied
+resample (tested); only the time differs (in the robustness part's 1,350 resamples of
 100 workers over the 1 cm grid, minutes).
 """
 
@@ -17,8 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ConfigError
-from ..landscape.stats import most_symmetric
+from .population import chosen_cells, common_cells
 
 QUANTILE = 0.95
 
@@ -58,10 +58,7 @@ class OneSizeResampler:
         m = np.asarray(multiplicity, dtype=np.float64)
         m32 = m.astype(np.float32)  # counts of at most a few hundred: exact in float32
         n = round(float(m.sum()))
-        common = np.flatnonzero((m32 > 0).astype(np.float32) @ self.infeasible == 0)
-        if common.size == 0:
-            raise ConfigError("no location of the grid is feasible for every worker of the "
-                              "workforce: there is no one-size location to compare")
+        common = common_cells((m32 > 0).astype(np.float32) @ self.infeasible == 0)
         # Sums of whole numbers are exact in float64: the same means as the copy's mean().
         mean = (m @ self.filled)[common] / n
         # numpy's inverted_cdf quantile is the sample's k-th smallest value (k from n alone).
@@ -73,12 +70,4 @@ class OneSizeResampler:
                 lowest_p95 = reached
                 break
         assert lowest_p95 is not None  # the highest value is reached by every common cell
-
-        def pick(mask: np.ndarray) -> int:
-            cells = common[mask]
-            return int(cells[most_symmetric(self.points[cells])])
-
-        lowest_mean = np.isclose(mean, mean.min(), rtol=0, atol=1e-9)
-        tie_mean = np.isclose(mean, mean[lowest_p95].min(), rtol=0, atol=1e-9)
-        return {"reference": self.reference_cell, "mean": pick(lowest_mean),
-                "p95": pick(lowest_p95 & tie_mean)}
+        return chosen_cells(common, mean, lowest_p95, self.points, self.reference_cell)

@@ -40,21 +40,34 @@ def one_size_cells(scores: np.ndarray, points: np.ndarray, reference_cell: int) 
 
     The mean and 95th-percentile choices are taken among cells every worker can take.
     """
-    common = np.flatnonzero(~np.isnan(scores).any(axis=0))
+    common = common_cells(~np.isnan(scores).any(axis=0))
+    values = scores[:, common]
+    # The score that 95 % of the workforce is at or below (an observed score, not interpolated).
+    p95 = np.quantile(values, 0.95, axis=0, method="inverted_cdf")
+    return chosen_cells(common, values.mean(axis=0), p95 == p95.min(), points, reference_cell)
+
+
+def common_cells(everyone: np.ndarray) -> np.ndarray:
+    """The flat indices of the cells every worker can take (``everyone``: (C,) bool); a
+    one-line ConfigError when there is none."""
+    common = np.flatnonzero(everyone)
     if common.size == 0:
         raise ConfigError("no location of the grid is feasible for every worker of the "
                           "workforce: there is no one-size location to compare")
-    values = scores[:, common]
-    mean = values.mean(axis=0)
-    # The score that 95 % of the workforce is at or below (an observed score, not interpolated).
-    p95 = np.quantile(values, 0.95, axis=0, method="inverted_cdf")
+    return common
+
+
+def chosen_cells(common: np.ndarray, mean: np.ndarray, lowest_p95: np.ndarray,
+                 points: np.ndarray, reference_cell: int) -> dict[str, int]:
+    """The one-size choices' rule, from the common cells' mean scores and which of them have
+    the lowest 95th percentile: the lowest mean; the lowest 95th percentile, then the lowest
+    mean among those; each tie broken by the most symmetric cell."""
 
     def pick(mask: np.ndarray) -> int:
         cells = common[mask]
         return int(cells[most_symmetric(points[cells])])
 
     lowest_mean = np.isclose(mean, mean.min(), rtol=0, atol=1e-9)
-    lowest_p95 = p95 == p95.min()
     tie_mean = np.isclose(mean, mean[lowest_p95].min(), rtol=0, atol=1e-9)
     return {"reference": int(reference_cell), "mean": pick(lowest_mean),
             "p95": pick(lowest_p95 & tie_mean)}
