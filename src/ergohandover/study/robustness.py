@@ -198,16 +198,12 @@ def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
     w = scores.shape[0]
     chosen = one_size_cells(scores, points, reference_cell)
     resampler = OneSizeResampler(scores, points, reference_cell)
-
-    def penalty(rows: np.ndarray, cell: int) -> float:  # penalty_at on the rows, one column
-        return float(np.nanmean(scores[rows, cell] - own[rows]))
-
     boot = {c: np.empty(resamples) for c in CHOICES}
     for b in range(resamples):
         pick = rng.integers(w, size=w)
         cells = resampler.cells(np.bincount(pick, minlength=w))
         for c in CHOICES:
-            boot[c][b] = penalty(pick, cells[c])
+            boot[c][b] = np.nanmean(penalty_at(scores, own, cells[c])[pick])
     held_out = {c: np.empty(splits) for c in CHOICES}
     in_half = {c: np.empty(splits) for c in CHOICES}
     for s in range(splits):
@@ -216,8 +212,8 @@ def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
         cells = resampler.cells(np.bincount(train, minlength=w))
         own_cells = resampler.cells(np.bincount(test, minlength=w))
         for c in CHOICES:
-            held_out[c][s] = penalty(test, cells[c])
-            in_half[c][s] = penalty(test, own_cells[c])
+            held_out[c][s] = np.nanmean(penalty_at(scores, own, cells[c])[test])
+            in_half[c][s] = np.nanmean(penalty_at(scores, own, own_cells[c])[test])
     rows = []
     for c in CHOICES:
         penalty = penalty_at(scores, own, chosen[c])
