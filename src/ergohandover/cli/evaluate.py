@@ -20,6 +20,7 @@ from ..twin.evaluate import (
     joint_angles,
     posture_solver,
 )
+from ..twin.stance import after_step
 from .options import (
     add_evaluator_arguments,
     add_gui_argument,
@@ -107,15 +108,19 @@ def run(args: argparse.Namespace) -> int:
         table = evaluate(points, evaluator, workers=args.workers, progress=bar.update,
                          joints=args.render is not None or args.gui)
     output = args.output or str(run_folder("evaluate") / "evaluation.csv")
+    # The Evaluation CSV, and how far the feet stepped for a worker who may step.
+    columns = [*EVALUATION_COLUMNS, *(["step_m"] if "step_m" in table else [])]
     if output == "-":
-        table[list(EVALUATION_COLUMNS)].to_csv(sys.stdout, index=False)
+        table[columns].to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table[list(EVALUATION_COLUMNS)], writable(output))
+        atomic_write_csv(table[columns], writable(output))
+    # A stepping worker is drawn where its feet went: the box relative to them.
+    drawn = after_step(points, table["step_m"].to_numpy()) if "step_m" in table else points
     if args.render:
-        render_points(table, points, evaluator, args.render)
+        render_points(table, drawn, evaluator, args.render)
     feasible = int(table["feasible"].sum())
     print(f"evaluated {len(table)} locations ({feasible} feasible)"
           + ("" if output == "-" else f" -> {output}"), file=sys.stderr)
     if args.gui:
-        show_in_window(evaluator, points[0], joint_angles(table)[0])
+        show_in_window(evaluator, drawn[0], joint_angles(table)[0])
     return 0

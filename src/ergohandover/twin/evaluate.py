@@ -26,6 +26,7 @@ from .angles import posture_columns
 from .anthropometry import BodySpec
 from .collision import BodyProbes
 from .solver import PostureSolver, SolverSettings
+from .stance import chosen_step, step_offsets
 from .task import TaskSpec
 
 SOLVERS = ("whole-body", "pybullet")
@@ -71,6 +72,10 @@ class Evaluator:
             if getattr(self, name) not in allowed:
                 raise EvaluationError(f"{name} = {getattr(self, name)!r} is not allowed (use "
                                       f"{' or '.join(repr(s) for s in allowed)})")
+        if self.task.stance == "step" and self.solver != "whole-body":
+            raise EvaluationError(f"stance = 'step' is not allowed with solver = "
+                                  f"{self.solver!r} (a step is chosen by the whole-body "
+                                  "solver's objective: use solver 'whole-body')")
 
 
 _SOLVERS: dict[Evaluator, PostureSolver] = {}
@@ -103,10 +108,37 @@ def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
 
     Returns:
         Column name -> (N,) array: :data:`EVALUATION_COLUMNS` (scores as computed, also where
-        infeasible), ``flags`` (uint8 bit mask of :data:`REASONS`, 0 = feasible) and the
+        infeasible), ``flags`` (uint8 bit mask of :data:`REASONS`, 0 = feasible), ``step_m``
+        (how far the feet stepped toward the box [m]; 0 with the stance ``fixed``) and the
         joint angles ``q_<joint>`` [rad].
     """
     locations = check_locations(locations)
+    if evaluator.task.stance == "step":
+        return _stepped_batch(evaluator, locations, columns)
+    return _planted_batch(evaluator, locations, columns)
+
+
+def _stepped_batch(evaluator: Evaluator, locations: np.ndarray,
+                   columns: Iterable[str] | None) -> dict[str, np.ndarray]:
+    """:func:`evaluate_batch` of a worker who may step toward the box (:mod:`.stance`): every
+    candidate step evaluated with the feet planted where it puts them, the chosen one kept;
+    ``step_m`` is how far the feet moved [m]."""
+    offsets = step_offsets(locations, evaluator.body)  # (K, N, 3)
+    k, n = offsets.shape[:2]
+    found = _planted_batch(evaluator, (locations[None] - offsets).reshape(-1, 3), None,
+                           cost=True)
+    rows = chosen_step(found["cost"].reshape(k, n), found["feasible"].reshape(k, n))
+    take = rows * n + np.arange(n)
+    out = {c: v[take] for c, v in found.items() if c != "cost"}
+    out.update(x=locations[:, 0], y=locations[:, 1], z=locations[:, 2],
+               step_m=np.linalg.norm(offsets[rows, np.arange(n)], axis=1))
+    return out if columns is None else {c: out[c] for c in columns}
+
+
+def _planted_batch(evaluator: Evaluator, locations: np.ndarray, columns: Iterable[str] | None,
+                   cost: bool = False) -> dict[str, np.ndarray]:
+    """:func:`evaluate_batch` with the feet where they stand (and the solver's objective as
+    ``cost`` if asked)."""
     solver = posture_solver(evaluator)
     solution = solver.solve(locations)
     st = solution.state
@@ -130,7 +162,9 @@ def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
               for i, name in enumerate(solver.model.joint_names)}
     out = {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
            "feasible": flags == 0, "hand_error_m": solution.hand_error,
-           "flags": flags, **posture, **scores, **joints}
+           "flags": flags, "step_m": np.zeros(len(locations)), **posture, **scores, **joints}
+    if cost:
+        out["cost"] = solution.cost
     if columns is None or "reason" in columns:  # strings: only for those who ask
         out["reason"] = reason_text(flags)
     return out if columns is None else {c: out[c] for c in columns}
@@ -228,15 +262,16 @@ def evaluate(locations: np.ndarray, evaluator: Evaluator | None = None, workers:
 
     Returns:
         One row per location, columns :data:`EVALUATION_COLUMNS` (the Evaluation CSV), then
-        the joint columns if asked for. Score columns are empty (<NA>) where the location is
-        infeasible: such a location is never scored as if the worker could take it.
+        ``step_m`` for a worker who may step, then the joint columns if asked for. Score
+        columns are empty (<NA>) where the location is infeasible: such a location is never
+        scored as if the worker could take it.
     """
     if evaluator is not None and not isinstance(evaluator, Evaluator):
         raise EvaluationError(f"evaluator = {evaluator!r} is not an Evaluator (build one: "
                               "Evaluator(body, task, ...))")
     evaluator = evaluator or Evaluator()
     arrays = evaluate_arrays(locations, evaluator, workers, progress)
-    names = [*EVALUATION_COLUMNS,
+    names = [*EVALUATION_COLUMNS, *(["step_m"] if evaluator.task.stance == "step" else []),
              *(c for c in arrays if joints and c.startswith(JOINT_PREFIX))]
     frame = pd.DataFrame({c: arrays[c] for c in names})
     infeasible = ~frame["feasible"].to_numpy()

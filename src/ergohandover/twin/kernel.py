@@ -161,7 +161,7 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
 
 @njit(**JIT)
 def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out, axes_out,
-                error_out, com_out, used_out):
+                error_out, com_out, used_out, cost_out):
     """Solve N locations one by one; outputs in ``KinematicState``'s posture-last layout.
 
     Args:
@@ -174,6 +174,7 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
         error_out: (N,) the worse hand's distance from its handle [m].
         com_out: (N, 3) centre of mass with the box [m].
         used_out: (N,) iterations run.
+        cost_out: (N,) the solver's objective at the solved posture.
     """
     n, nq = starts.shape
     n_links, n_mass = kin[2].shape[0], kin[4].shape[0]
@@ -190,7 +191,7 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
         used_out[i] = _solve_one(starts[i], targets[i], iterations, kin, task, scratch, work,
                                  bufs)
         q = bufs[0]
-        residuals(q, targets[i], kin, task, scratch, bufs[3])  # q's kinematics and COM
+        cost_out[i] = residuals(q, targets[i], kin, task, scratch, bufs[3])  # and q's kinematics
         worst = 0.0
         for side in range(2):
             d = 0.0
@@ -288,12 +289,12 @@ class PackedSolver:
 
         Returns:
             q (N, nq), pos (L, 3, N), rot (L, 3, 3, N), axes (nq, 3, N), hand error (N,),
-            centre of mass (N, 3) and iterations run (N,).
+            centre of mass (N, 3), iterations run (N,) and the objective at q (N,).
         """
         n = targets.shape[0]
         out = (np.empty((n, self.nq)), np.empty((self.n_links, 3, n)),
                np.empty((self.n_links, 3, 3, n)), np.empty((self.nq, 3, n)), np.empty(n),
-               np.empty((n, 3)), np.empty(n, np.int64))
+               np.empty((n, 3)), np.empty(n, np.int64), np.empty(n))
         solve_batch(np.ascontiguousarray(start, dtype=float),
                     np.ascontiguousarray(targets, dtype=float), int(iterations), self.kin,
                     self.task, *out)

@@ -196,6 +196,7 @@ class Solution(NamedTuple):
     hand_error: np.ndarray  # (N,) the worse hand's distance from its handle [m]
     com: np.ndarray  # (N, 3) centre of mass with the box, world frame [m]
     state: KinematicState  # forward kinematics of q
+    cost: np.ndarray | None = None  # (N,) the solver's objective at q (None: not an optimiser's)
 
 
 class PostureSolver:
@@ -297,9 +298,9 @@ class PostureSolver:
 
             self._packed = PackedSolver(self)
         targets = self.targets(locations)
-        q, pos, rot, axes, error, com, _ = self._packed.run(
+        q, pos, rot, axes, error, com, _, cost = self._packed.run(
             np.stack(targets, axis=1), start, iterations)
-        return Solution(q, error, com, KinematicState(self.model, q, pos, rot, axes))
+        return Solution(q, error, com, KinematicState(self.model, q, pos, rot, axes), cost)
 
     def iterate_numpy(self, locations: np.ndarray, start: np.ndarray,
                       iterations: int) -> Solution:
@@ -344,7 +345,7 @@ class PostureSolver:
         state = self.model.forward(q)
         error = np.maximum(np.linalg.norm(state.point("left_grip") - targets.left, axis=1),
                            np.linalg.norm(state.point("right_grip") - targets.right, axis=1))
-        return Solution(q, error, state.com(extra), state)
+        return Solution(q, error, state.com(extra), state, cost)
 
     def _cost(self, q: np.ndarray, res: np.ndarray, weight: np.ndarray) -> np.ndarray:
         """(N,) total cost: weighted task residuals plus joint preferences."""

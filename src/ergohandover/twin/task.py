@@ -23,7 +23,7 @@ class TaskSpecError(ConfigError):
 
 @dataclass(frozen=True)
 class TaskSpec:
-    """A box with two side handles, handed to a worker standing with both feet planted.
+    """A box with two side handles, handed to a standing worker.
 
     Defaults describe a small construction box (fixings, a tool case): 0.36 m wide so that the
     handles, 0.40 m apart, meet the hands at about shoulder width; 0.25 m high and 0.30 m deep;
@@ -34,6 +34,9 @@ class TaskSpec:
     ``gaze``: whether the worker keeps the box in view. "on" (the default) adds the solver's
     gaze task: the line of sight may turn only within the eyes' comfortable cone of the box
     centre, beyond it the head and trunk turn. "off" ignores where the worker looks.
+
+    ``stance``: "fixed" (the default, the paper's worker) keeps the feet where they stand;
+    "step" lets the worker step toward the box first (:mod:`.stance`).
     """
 
     box_width: float = ranged(0.36, "box width, side to side [m]", 0.10, 1.00)
@@ -46,6 +49,8 @@ class TaskSpec:
     clearance: float = ranged(0.02, "gap kept between the box and the torso [m]", 0.0, 0.20)
     gaze: str = ranged("on", "keep the box in view ('on') or ignore where the worker looks "
                        "('off')", choices=("on", "off"))
+    stance: str = ranged("fixed", "the feet stay planted ('fixed', the paper's worker) or may "
+                         "take one step toward the box ('step')", choices=("fixed", "step"))
 
     def __post_init__(self):
         check_ranges(self, TaskSpecError)
