@@ -16,6 +16,7 @@ Parts, in order:
   sensitivity   which modelling choices move the optimum: a landscape per variant
   validation    the twin beside published human data (angles, working heights, lifts)
   robustness    the recommendation under posture-measurement error and a wrong model
+  stance        the headline comparison for a worker who may step toward the box
   personalise   how many handovers each searcher needs to find one worker's own optimum
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
@@ -62,11 +63,11 @@ STEPS = (*PARTS, "figures")
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
 ESTIMATE_S = {"default": {"landscape": 87, "baselines": 223, "ablations": 43,
                           "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 525, "personalise": 627,
+                          "validation": 1, "robustness": 525, "stance": 60, "personalise": 627,
                           "figures": 33},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
-                        "robustness": 63, "personalise": 8, "figures": 22}}
+                        "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",

@@ -275,9 +275,23 @@ class RobustnessConfig:
     splits: int = setting(150, lo=1)
 
 
+@dataclasses.dataclass(frozen=True)
+class StanceConfig:
+    """The headline comparisons for a worker who may step toward the box (the task's stance
+    ``step``) beside the planted one: the stepping worker's own landscape every ``step`` on the
+    landscape's boundary, and the comparisons under posture error (``angle_sds``, ``draws``
+    measurements each, seeded)."""
+
+    step: float = setting(0.01, positive=True, unit="m")
+    angle_sds: tuple[float, ...] = setting((0.0, 5.0), lo=0, unit="deg")
+    draws: int = setting(4000, lo=1)
+    seed: int = setting(27, lo=0)
+
+
 READS = {"baselines": ("learning",),
          "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
-         "personalise": ("population",)}
+         "personalise": ("population",),
+         "stance": ("learning", "baselines", "participants")}
 """Parts that read another part's results besides the landscape's: the baselines carry the box
 to the location the learner found; the robustness part reads the baselines' locations, the
 population's one-size locations and the landscapes of the participants, workers and variants;
@@ -298,6 +312,7 @@ class StudyConfig:
     validation: ValidationConfig = setting(ValidationConfig())
     robustness: RobustnessConfig = setting(RobustnessConfig())
     personalise: PersonaliseConfig = setting(PersonaliseConfig())
+    stance: StanceConfig = setting(StanceConfig())
 
     def __post_init__(self):
         learning = self.learning
@@ -359,13 +374,15 @@ class StudyConfig:
         sections = (part,) if part == "landscape" else (part, "landscape", *READS.get(part, ()))
         return {name: dataclasses.asdict(getattr(self, name)) for name in sections}
 
-    def task(self, gaze: str | None = None) -> TaskSpec:
-        """The study's task: the default box, with the landscape's gaze (or ``gaze``)."""
-        return TaskSpec(gaze=gaze or self.landscape.gaze)
+    def task(self, gaze: str | None = None, stance: str = "fixed") -> TaskSpec:
+        """The study's task: the default box, with the landscape's gaze (or ``gaze``), the
+        feet planted (or ``stance``)."""
+        return TaskSpec(gaze=gaze or self.landscape.gaze, stance=stance)
 
-    def evaluator(self, worker: str = DEFAULT_WORKER, gaze: str | None = None) -> Evaluator:
+    def evaluator(self, worker: str = DEFAULT_WORKER, gaze: str | None = None,
+                  stance: str = "fixed") -> Evaluator:
         """The study's evaluator of a named worker: the default model with the study's task."""
-        return Evaluator(BodySpec.from_percentile(worker), self.task(gaze))
+        return Evaluator(BodySpec.from_percentile(worker), self.task(gaze, stance))
 
 
 def wall_budget_name(cap_s: float) -> str:

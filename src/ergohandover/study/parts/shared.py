@@ -28,7 +28,7 @@ def where(engine: Engine) -> dict:
 def landscape(engine: Engine, evaluator: Evaluator, grid: Grid) -> Landscape:
     """One landscape, from the cache or swept on the engine."""
     print(f"  {grid.describe()} for {evaluator.body} ({evaluator.solver} solver, gaze "
-          f"{evaluator.task.gaze})")
+          f"{evaluator.task.gaze}, stance {evaluator.task.stance})")
     found = landscape_of(evaluator, grid, **where(engine))
     print(f"  landscape {found.path}")
     return found
