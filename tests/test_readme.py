@@ -19,6 +19,7 @@ import learning_tables  # noqa: E402
 import personalise_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
+import stance_tables  # noqa: E402
 
 
 def bash_blocks(text: str) -> list[str]:
@@ -223,6 +224,9 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     block = robustness_tables.blocks(RESULTS)["robustness-headline"]
     rows["under error"] = ([], [f"<!-- robustness-headline -->{block}"
                                 f"<!-- /robustness-headline -->"])
+    block = stance_tables.blocks(RESULTS)["stance-headline"]
+    rows["a worker who steps"] = ([], [f"<!-- stance-headline -->{block}"
+                                       f"<!-- /stance-headline -->"])
     block = personalise_tables.blocks(RESULTS)["personalise-headline"]
     rows["personalising"] = ([], [f"<!-- personalise-headline -->{block}"
                                   f"<!-- /personalise-headline -->"])

@@ -25,6 +25,7 @@ import personalise_tables  # noqa: E402
 import population_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
+import stance_tables  # noqa: E402
 import validation_tables  # noqa: E402
 
 
@@ -33,10 +34,11 @@ def test_report_generated_blocks_are_the_committed_results():
             **population_tables.blocks(ROOT / "results"),
             **personalise_tables.blocks(ROOT / "results"),
             **robustness_tables.blocks(ROOT / "results"),
+            **stance_tables.blocks(ROOT / "results"),
             **validation_tables.blocks(ROOT / "results")}
     for name, block in made.items():
         if name not in ("learning-claim", "learning-learns", "robustness-headline",
-                        "personalise-headline"):  # the README's headline table
+                        "personalise-headline", "stance-headline"):  # the README's headline table
             assert readme_blocks.where(name) == REPORT_PATH, name
         assert readme_blocks.block(name) == block, name
 
@@ -258,7 +260,7 @@ def test_report_run_times_are_the_committed_manifests():
     total = float(re.search(r"take ([\d.]+)\s+minutes on this 2-core", text).group(1))
     parts = sum(minutes(p) for p in ("landscape", "learning", "baselines", "ablations",
                                      "participants", "population", "sensitivity", "validation",
-                                     "robustness", "personalise"))
+                                     "robustness", "stance", "personalise"))
     assert parts <= total <= parts + 1.5  # the parts, plus the figures and the start-up
     assert total <= 45, f"the default study takes {total} minutes on 2 cores, over its 45"
     readme = " ".join((ROOT / "README.md").read_text().split())

@@ -123,8 +123,10 @@ def _step(q, jt, res, lam, fresh, kin, task, work):
 def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
     """Levenberg-Marquardt from ``start`` (nq,); the posture ends in ``bufs[0]``.
 
-    Returns the number of iterations run: fewer than ``iterations`` only when a step is
-    rejected at the largest damping, since every later iteration would repeat that step.
+    Returns the number of iterations run (fewer than ``iterations`` only when a step is
+    rejected at the largest damping, since every later iteration would repeat that step), the
+    cost at the final posture, and whether ``scratch`` still holds that posture's kinematics
+    (no trial step was rejected after it was reached).
     """
     limits, scalars = kin[3], task[2]
     q, q_new, jt, res, res_new = bufs
@@ -135,7 +137,7 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
     cost = residuals(q, target, kin, task, scratch, res)
     jacobian(kin, task, scratch, res, jt)
     lam = scalars[5]
-    used, fresh = iterations, True
+    used, fresh, current = iterations, True, True
     for it in range(iterations):
         _step(q, jt, res, lam, fresh, kin, task, work)
         for j in range(nq):
@@ -147,16 +149,16 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
             cost = cost_new
             jacobian(kin, task, scratch, res, jt)  # the scratch holds q's kinematics
             lam = min(max(lam * 0.3, LAM_MIN), LAM_MAX)
-            fresh = True
+            fresh, current = True, True
         elif lam >= LAM_MAX:
-            used = it + 1
+            used, current = it + 1, False
             break
         else:  # same q, J and gradient: only the damping changes for the next trial
             lam = min(max(lam * 10.0, LAM_MIN), LAM_MAX)
-            fresh = False
+            fresh, current = False, False
     for j in range(nq):
         bufs[0][j] = q[j]
-    return used
+    return used, cost, current
 
 
 @njit(**JIT)
@@ -188,10 +190,12 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
     pos, rot, axes, vec = scratch[0], scratch[1], scratch[2], scratch[5]
     links = task[0]
     for i in range(n):
-        used_out[i] = _solve_one(starts[i], targets[i], iterations, kin, task, scratch, work,
-                                 bufs)
-        q = bufs[0]
-        cost_out[i] = residuals(q, targets[i], kin, task, scratch, bufs[3])  # and q's kinematics
+        used, cost, current = _solve_one(starts[i], targets[i], iterations, kin, task,
+                                         scratch, work, bufs)
+        used_out[i], q = used, bufs[0]
+        if not current:  # the scratch holds a rejected trial's kinematics: q's again
+            cost = residuals(q, targets[i], kin, task, scratch, bufs[3])
+        cost_out[i] = cost
         worst = 0.0
         for side in range(2):
             d = 0.0
