@@ -250,6 +250,7 @@ def test_report_run_times_are_the_committed_manifests():
                    f"Bayesian optimisation is {seconds['bo+prior']:.0f} of its "
                    f"{sum(seconds.values()):,.0f} seconds",
                    f"the robustness part {minutes('robustness'):.1f}",
+                   f"the stance part {minutes('stance'):.1f}",
                    f"reachability {minutes('baselines'):.1f}",
                    f"{swept} workers {minutes('population'):.1f}",
                    f"31 variants {minutes('sensitivity'):.1f}",
