@@ -133,9 +133,9 @@ class SolverSettings:
         damping: initial Levenberg-Marquardt damping [1].
         max_step_deg: largest change of any joint in one iteration [deg].
         iterations: iterations from the interpolated start. 10: on 20,000 random paper-code
-            locations, 99.6% score exactly as with 12 (flags, paper score, REBA, RULA) and
-            97.3% as with 60 (97.6% with 12), for two iterations (a sixth of the solve) less
-            (``experiments/tools/iteration_budget.py``).
+            locations, 98.0% score exactly as with 12 (flags, paper score, REBA, RULA) and
+            97.1% as with 60 (98.4% with 12), for two iterations (a tenth of the time) less
+            (``experiments/tools/iteration_budget.py``, the twin sized by the body model).
         lattice_iterations: iterations for the lattice postures, from each strategy.
         preference_scale: factor on every joint-preference weight (``JOINT_PREFERENCE``).
         joint_preference_scales: (joint, factor) pairs on single joints' preference weights,
