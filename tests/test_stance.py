@@ -3,11 +3,17 @@ to the posture and the scores."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
+
+import ergohandover.landscape.cache as cache_module
+from ergohandover.cli import main
+from ergohandover.landscape.cache import Landscape
 
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import EvaluationError, Evaluator, evaluate
@@ -108,3 +114,22 @@ def test_evaluate_takes_the_stance_and_refuses_a_bad_one_in_one_line():
     assert bad.returncode == 2 and bad.stdout == ""
     assert len(bad.stderr.strip().splitlines()) == 1 and "--stance" in bad.stderr
     assert "walk" in bad.stderr and "fixed" in bad.stderr and "step" in bad.stderr
+
+
+def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_location(
+        tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
+    cache_module.twin_code_version.cache_clear()
+    grid = ["--boundary", "-0.1,0.1,0.9,1.2,0.7,1.1", "--step", "0.1", "--workers", "1"]
+    found = {}
+    for stance in ("fixed", "step"):
+        out = tmp_path / stance
+        assert main(["sweep", *grid, "--stance", stance, "--output", str(out)]) == 0
+        manifest = json.loads((out / "manifest.json").read_text())
+        found[stance] = Landscape.load(Path(manifest["landscape"]))
+    capsys.readouterr()
+    assert found["fixed"].path != found["step"].path
+    planted, stepping = found["fixed"].feasible, found["step"].feasible
+    # No step is one of the candidates: wherever the planted worker takes the box, so can the
+    # stepping one; beyond reach (z up to 1.1 m) only the stepping one can.
+    assert np.all(stepping[planted]) and stepping.sum() > planted.sum()
