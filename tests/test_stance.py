@@ -14,7 +14,6 @@ import pytest
 import ergohandover.landscape.cache as cache_module
 from ergohandover.cli import main
 from ergohandover.landscape.cache import Landscape
-
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import EvaluationError, Evaluator, evaluate
 from ergohandover.twin.stance import (

@@ -53,9 +53,10 @@ def headline(results: Path) -> str:
              f"{ERROR_SD:g}° of posture error (planted {int(survives.sum()['fixed'])})"]
     if own:
         others = head[(head["optimised_location"] == own[0]) & (head["score"] == "reba")]
-        stepping = others[others["stance"] == "step"]
+        stepping, planted = others[others["stance"] == "step"], others[others["stance"] == "fixed"]
         parts.append(f"the other participants' own optimum still has the lower REBA in "
-                     f"{int(stepping['beats'].sum())} of {len(stepping)} comparisons")
+                     f"{int(stepping['beats'].sum())} of {len(stepping)} comparisons (planted "
+                     f"{int(planted['beats'].sum())})")
     parts.append(f"the stepping worker's own optimum scores "
                  f"{manifest['stepping_optimum_score']}")
     return "; ".join(parts)
