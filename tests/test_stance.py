@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ergohandover.landscape.cache as cache_module
@@ -132,3 +133,20 @@ def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_loc
     # No step is one of the candidates: wherever the planted worker takes the box, so can the
     # stepping one; beyond reach (z up to 1.1 m) only the stepping one can.
     assert np.all(stepping[planted]) and stepping.sum() > planted.sum()
+
+
+def test_the_fine_warm_start_depends_on_the_location_alone():
+    # Nodes are solved on first use: a location's start (and so its posture) must not depend
+    # on which other locations came first, in this process or another.
+    from ergohandover.twin.solver import SolverSettings
+
+    fine = Evaluator(settings=SolverSettings(warm_start="fine", iterations=4))
+    points = np.array([[0.0, 1.0, 0.42], [0.1, 1.2, 0.55], [-0.15, 0.8, 0.33]])
+    from ergohandover.twin import evaluate as evaluation
+
+    together = evaluate(points, fine, joints=True)
+    assert together["feasible"].tolist() == [1, 1, 0]  # an infeasible one too
+    for i in reversed(range(len(points))):
+        evaluation._SOLVERS.pop(fine)  # a new solver: no node solved yet
+        alone = evaluate(points[i:i + 1], fine, joints=True)
+        pd.testing.assert_frame_equal(alone, together.iloc[i:i + 1].reset_index(drop=True))

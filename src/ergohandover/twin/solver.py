@@ -48,7 +48,7 @@ from .kinematics import KinematicModel, KinematicState
 from .skeleton import build_skeleton
 from .task import TaskSpec
 from .tasks import Targets, stack_tasks
-from .warm_start import StartLattice
+from .warm_start import FineLattice, StartLattice
 
 # Joint -> (neutral angle [deg], preference weight). Higher weight: the twin moves that joint
 # less. What each changes: ankle/knee - how readily the twin squats rather than stoops;
@@ -144,6 +144,11 @@ class SolverSettings:
             toward 0 (the neutral stance) by this factor.
         strategies: the whole-body strategies (``STRATEGY_DEG``) each lattice node is solved
             from; the node keeps the posture of lowest cost.
+        warm_start: where a location's solve starts. "lattice" (the default): the coarse
+            lattice's interpolation, then ``iterations``. "fine": the interpolation of a fine
+            lattice (every ``fine_spacing``) whose nodes are solved as "lattice" solves a
+            location, then ``iterations`` more (experiments/tools/warm_start_agreement.py).
+        fine_spacing: the fine lattice's node spacing [m].
 
     The last four exist for the sensitivity study; at their defaults they change nothing.
     """
@@ -165,6 +170,10 @@ class SolverSettings:
     range_of_motion: float = ranged(1.0, "fraction of each joint's range of motion used",
                                     0.5, 1.0)
     strategies: tuple[str, ...] = tuple(STRATEGY_DEG)
+    warm_start: str = ranged("lattice", "where a solve starts: the coarse lattice, or a fine "
+                             "lattice of solved postures", choices=("lattice", "fine"))
+    fine_spacing: float = ranged(0.01, "the fine lattice's node spacing [m]", 0.002, 0.05)
+    fine_node_iterations: int = 10
 
     def __post_init__(self):
         check_ranges(self, SolverSettingsError)
@@ -237,6 +246,7 @@ class PostureSolver:
         self.sight = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])  # gaze-link frame
         self.eye_cone = np.radians(EYE_CONE_DEG)
         self._lattice: StartLattice | None = None
+        self._fine: FineLattice | None = None
         self._packed = None  # the kernel's arrays, built on first use
 
     @property
@@ -283,7 +293,18 @@ class PostureSolver:
     def solve(self, locations: np.ndarray) -> Solution:
         """Postures for box centres at ``locations`` (N, 3), worker frame [m]."""
         locations = np.asarray(locations, dtype=float).reshape(-1, 3)
+        if self.settings.warm_start == "fine":
+            return self.iterate(locations, self.fine.start(locations), self.settings.iterations)
         return self.iterate(locations, self.lattice.start(locations), self.settings.iterations)
+
+    @property
+    def fine(self) -> FineLattice:
+        """The fine lattice of warm starts, its nodes solved as the default warm start solves a
+        location (``fine_node_iterations`` from the coarse lattice), on first use."""
+        if self._fine is None:
+            self._fine = FineLattice(self.settings.fine_spacing, lambda nodes: self.iterate(
+                nodes, self.lattice.start(nodes), self.settings.fine_node_iterations).q)
+        return self._fine
 
     def targets(self, locations: np.ndarray) -> Targets:
         """Handles and box centre in the world frame for (N, 3) worker-frame locations."""
