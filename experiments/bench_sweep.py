@@ -2,7 +2,7 @@
 whole process tree (the sweep and its worker processes) sampled from /proc.
 
 Usage: python experiments/bench_sweep.py [--boundary paper-code] [--step 0.003] [--keep]
-       python experiments/bench_sweep.py --compare [--iterations 4] [--fine-spacing 0.01]
+       python experiments/bench_sweep.py --compare [--iterations 0] [--fine-spacing 0.006]
 
 Runs ``ergohandover sweep`` with an empty landscape cache in a temporary directory (so nothing
 cached is reused) and prints the wall time, points/s and peak resident memory; then, in this
@@ -62,10 +62,11 @@ def main() -> None:
                         "of a temporary directory")
     parser.add_argument("--compare", action="store_true",
                         help="today's warm start against the fine lattice's, in one run")
-    parser.add_argument("--iterations", type=int, default=4,
-                        help="with --compare: the fine method's iterations (default: 4)")
-    parser.add_argument("--fine-spacing", type=float, default=0.01,
-                        help="with --compare: the fine lattice's spacing [m] (default: 0.01)")
+    parser.add_argument("--iterations", type=int, default=0,
+                        help="with --compare: the fine method's iterations after its "
+                        "interpolated start (default: 0)")
+    parser.add_argument("--fine-spacing", type=float, default=0.006,
+                        help="with --compare: the fine lattice's spacing [m] (default: 0.006)")
     args = parser.parse_args()
     if args.compare:
         compare_methods(args.boundary, float(args.step), args.iterations, args.fine_spacing)
@@ -120,7 +121,7 @@ def compare_methods(boundary: str, step: float, iterations: int, spacing: float)
 
     today = Evaluator()
     fine = replace(today, settings=replace(today.settings, warm_start="fine",
-                                           iterations=iterations, fine_spacing=spacing))
+                                           fine_iterations=iterations, fine_spacing=spacing))
     grid = Grid(parse_boundary(boundary, today.body, today.task), step)
     print(grid.describe())
     rates, found = {}, {}

@@ -140,7 +140,7 @@ def test_the_fine_warm_start_depends_on_the_location_alone():
     # on which other locations came first, in this process or another.
     from ergohandover.twin.solver import SolverSettings
 
-    fine = Evaluator(settings=SolverSettings(warm_start="fine", iterations=4))
+    fine = Evaluator(settings=SolverSettings(warm_start="fine", fine_iterations=4))
     points = np.array([[0.0, 1.0, 0.42], [0.1, 1.2, 0.55], [-0.15, 0.8, 0.33]])
     from ergohandover.twin import evaluate as evaluation
 
@@ -150,3 +150,18 @@ def test_the_fine_warm_start_depends_on_the_location_alone():
         evaluation._SOLVERS.pop(fine)  # a new solver: no node solved yet
         alone = evaluate(points[i:i + 1], fine, joints=True)
         pd.testing.assert_frame_equal(alone, together.iloc[i:i + 1].reset_index(drop=True))
+
+
+def test_the_fine_lattice_nodes_are_todays_solves():
+    # At a node the interpolation puts (all but rounding of) its whole weight on that node, and
+    # the node was solved exactly as today's warm start solves a location: with no further
+    # iterations the two postures agree.
+    from ergohandover.twin.solver import SolverSettings
+
+    fine = Evaluator(settings=SolverSettings(warm_start="fine"))
+    nodes = np.array([[0.0, 1.002, 0.42], [0.102, 1.2, 0.552], [-0.15, 0.9, 0.33]])
+    today = evaluate(nodes, joints=True)
+    found = evaluate(nodes, fine, joints=True)
+    joints = [c for c in today.columns if c.startswith("q_")]
+    assert np.abs(found[joints].to_numpy() - today[joints].to_numpy()).max() < 1e-9
+    assert found["reba"].tolist() == today["reba"].tolist()
