@@ -165,3 +165,35 @@ def test_the_fine_lattice_nodes_are_todays_solves():
     joints = [c for c in today.columns if c.startswith("q_")]
     assert np.abs(found[joints].to_numpy() - today[joints].to_numpy()).max() < 1e-9
     assert found["reba"].tolist() == today["reba"].tolist()
+
+
+def test_sweep_takes_the_fine_warm_start_into_a_landscape_of_its_own(tmp_path, monkeypatch,
+                                                                     capsys):
+    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
+    cache_module.twin_code_version.cache_clear()
+    grid = ["--boundary", "-0.1,0.1,0.9,1.2,0.35,0.55", "--step", "0.05", "--workers", "1"]
+    found = {}
+    for start in ("lattice", "fine"):
+        out = tmp_path / start
+        assert main(["sweep", *grid, "--warm-start", start, "--output", str(out)]) == 0
+        manifest = json.loads((out / "manifest.json").read_text())
+        found[start] = Landscape.load(Path(manifest["landscape"]))
+    capsys.readouterr()
+    assert found["lattice"].path != found["fine"].path
+    # Interpolated solves of the same twin: the same feasibility almost everywhere, and where
+    # both are feasible the paper score rarely moves, never by more than a little.
+    today, fine = found["lattice"].arrays, found["fine"].arrays
+    assert np.mean(today["flags"] == fine["flags"]) >= 0.9
+    both = (today["flags"] == 0) & (fine["flags"] == 0)
+    moved = np.abs(today["paper_postural"][both].astype(int) - fine["paper_postural"][both])
+    assert both.sum() > 50 and np.mean(moved == 0) >= 0.9 and moved.max() <= 2
+
+
+def test_sweep_refuses_a_bad_warm_start_in_one_line():
+    for flags, words in ((["--warm-start", "coarse"], ("coarse", "lattice", "fine")),
+                         (["--warm-start", "fine", "--solver", "pybullet"], ("pybullet",))):
+        bad = run_cli("sweep", "--boundary", "-0.1,0.1,0.9,1.2,0.35,0.55", "--step", "0.1",
+                      *flags)
+        assert bad.returncode == 2 and bad.stdout == ""
+        assert len(bad.stderr.strip().splitlines()) == 1 and "--warm-start" in bad.stderr
+        assert all(w in bad.stderr for w in words)

@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from ..io.csv_input import InputError
 from ..io.manifest import write_manifest
 from ..landscape import Landscape, landscapes_of
 from ..landscape.stats import statistics, write_statistics
@@ -21,7 +22,7 @@ from .options import (
     run_folder,
 )
 from .refusals import read_landscape
-from .values import existing_file
+from .values import choice, existing_file
 
 
 def add_parser(subparsers) -> None:
@@ -33,6 +34,12 @@ def add_parser(subparsers) -> None:
     add_grid_arguments(parser, "the published code's boundary, the paper's body-derived one, "
                        "or explicit ranges in metres, worker frame", "grid step [m]")
     add_evaluator_arguments(parser)
+    parser.add_argument("--warm-start", type=choice(("lattice", "fine")), default="lattice",
+                        metavar="lattice|fine",
+                        help="where each location's solve starts: the coarse lattice (the "
+                        "study's solve; the default) or today's solves every 6 mm, "
+                        "interpolated (about 2.4x as fast on the paper grid, scores as the "
+                        "default's at about 98 %% of points; a landscape of its own)")
     add_output_folder_argument(parser, "folder for the statistics, figure and manifest.json "
                                "(created if needed; default: a new runs/sweep/<timestamp>/); "
                                "the landscape itself goes to the cache")
@@ -54,6 +61,12 @@ def add_parser(subparsers) -> None:
 
 def run_sweep(args: argparse.Namespace) -> int:
     evaluator = evaluator_from_args(args)
+    if args.warm_start == "fine" and evaluator.solver != "whole-body":
+        raise InputError(f"--warm-start fine is not allowed with --solver {evaluator.solver} "
+                         "(it interpolates the whole-body solver's postures)")
+    if args.warm_start != evaluator.settings.warm_start:
+        evaluator = dataclasses.replace(evaluator, settings=dataclasses.replace(
+            evaluator.settings, warm_start=args.warm_start))
     grid = grid_from_args(evaluator, args.boundary, args.step)
     print(grid.describe(), file=sys.stderr)
     start = time.perf_counter()
