@@ -61,10 +61,10 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 87, "baselines": 223, "ablations": 43,
-                          "participants": 48, "population": 344, "sensitivity": 101,
-                          "validation": 1, "robustness": 525, "stance": 60, "personalise": 627,
-                          "figures": 33},
+ESTIMATE_S = {"default": {"landscape": 142, "baselines": 277, "ablations": 66,
+                          "participants": 70, "population": 479, "sensitivity": 154,
+                          "validation": 6, "robustness": 418, "stance": 22, "personalise": 637,
+                          "figures": 35},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}
