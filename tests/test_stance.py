@@ -116,18 +116,27 @@ def test_evaluate_takes_the_stance_and_refuses_a_bad_one_in_one_line():
     assert "walk" in bad.stderr and "fixed" in bad.stderr and "step" in bad.stderr
 
 
-def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_location(
-        tmp_path, monkeypatch, capsys):
+def sweep_each(tmp_path, monkeypatch, capsys, boundary: str, step: str, flag: str,
+               values: tuple[str, ...]) -> dict:
+    """``ergohandover sweep`` once per value of ``flag`` into an empty cache: value ->
+    Landscape."""
     monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
     cache_module.twin_code_version.cache_clear()
-    grid = ["--boundary", "-0.1,0.1,0.9,1.2,0.7,1.1", "--step", "0.1", "--workers", "1"]
     found = {}
-    for stance in ("fixed", "step"):
-        out = tmp_path / stance
-        assert main(["sweep", *grid, "--stance", stance, "--output", str(out)]) == 0
+    for value in values:
+        out = tmp_path / value
+        assert main(["sweep", "--boundary", boundary, "--step", step, "--workers", "1", flag,
+                     value, "--output", str(out)]) == 0
         manifest = json.loads((out / "manifest.json").read_text())
-        found[stance] = Landscape.load(Path(manifest["landscape"]))
+        found[value] = Landscape.load(Path(manifest["landscape"]))
     capsys.readouterr()
+    return found
+
+
+def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_location(
+        tmp_path, monkeypatch, capsys):
+    found = sweep_each(tmp_path, monkeypatch, capsys, "-0.1,0.1,0.9,1.2,0.7,1.1", "0.1",
+                       "--stance", ("fixed", "step"))
     assert found["fixed"].path != found["step"].path
     planted, stepping = found["fixed"].feasible, found["step"].feasible
     # No step is one of the candidates: wherever the planted worker takes the box, so can the
@@ -169,16 +178,8 @@ def test_the_fine_lattice_nodes_are_todays_solves():
 
 def test_sweep_takes_the_fine_warm_start_into_a_landscape_of_its_own(tmp_path, monkeypatch,
                                                                      capsys):
-    monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
-    cache_module.twin_code_version.cache_clear()
-    grid = ["--boundary", "-0.1,0.1,0.9,1.2,0.35,0.55", "--step", "0.05", "--workers", "1"]
-    found = {}
-    for start in ("lattice", "fine"):
-        out = tmp_path / start
-        assert main(["sweep", *grid, "--warm-start", start, "--output", str(out)]) == 0
-        manifest = json.loads((out / "manifest.json").read_text())
-        found[start] = Landscape.load(Path(manifest["landscape"]))
-    capsys.readouterr()
+    found = sweep_each(tmp_path, monkeypatch, capsys, "-0.1,0.1,0.9,1.2,0.35,0.55", "0.05",
+                       "--warm-start", ("lattice", "fine"))
     assert found["lattice"].path != found["fine"].path
     # Interpolated solves of the same twin: the same feasibility almost everywhere, and where
     # both are feasible the paper score rarely moves, never by more than a little.
