@@ -42,7 +42,6 @@ def headline(results: Path) -> str:
                     & (locations["stance"] == "step")
                     & (locations["worker"] == mine["worker"].iloc[0])]
     step = paper.loc["step"]
-    own = [h for h in ("own optimised",) if (head["optimised_location"] == h).any()]
     parts = [f"when the worker may step toward the box, the optimised location "
              f"({int(step['optimised'].iloc[0])}) beats the shortest-distance one from "
              f"{int(step['beats'].sum())} of {len(step)} starts ("
@@ -51,9 +50,10 @@ def headline(results: Path) -> str:
              f"{_span(paper.loc['fixed', 'shortest_distance'])}), and from "
              f"{int(survives.sum()['step'])} of {int(survives.count()['step'])} at "
              f"{ERROR_SD:g}° of posture error (planted {int(survives.sum()['fixed'])})"]
-    if own:
-        others = head[(head["optimised_location"] == own[0]) & (head["score"] == "reba")]
-        stepping, planted = others[others["stance"] == "step"], others[others["stance"] == "fixed"]
+    others = head[(head["optimised_location"] == "own optimised") & (head["score"] == "reba")]
+    if len(others):
+        stepping = others[others["stance"] == "step"]
+        planted = others[others["stance"] == "fixed"]
         parts.append(f"the other participants' own optimum still has the lower REBA in "
                      f"{int(stepping['beats'].sum())} of {len(stepping)} comparisons (planted "
                      f"{int(planted['beats'].sum())})")

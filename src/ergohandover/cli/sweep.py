@@ -22,7 +22,7 @@ from .options import (
     run_folder,
 )
 from .refusals import read_landscape
-from .values import choice, existing_file
+from .values import existing_file, field_value
 
 
 def add_parser(subparsers) -> None:
@@ -34,8 +34,11 @@ def add_parser(subparsers) -> None:
     add_grid_arguments(parser, "the published code's boundary, the paper's body-derived one, "
                        "or explicit ranges in metres, worker frame", "grid step [m]")
     add_evaluator_arguments(parser)
-    parser.add_argument("--warm-start", type=choice(("lattice", "fine")), default="lattice",
-                        metavar="lattice|fine",
+    from ..twin.solver import SolverSettings
+
+    warm_start = next(f for f in dataclasses.fields(SolverSettings) if f.name == "warm_start")
+    parser.add_argument("--warm-start", type=field_value(warm_start), default=warm_start.default,
+                        metavar="|".join(warm_start.metadata["choices"]),
                         help="where each location's solve starts: the coarse lattice (the "
                         "study's solve; the default) or today's solves every 6 mm, "
                         "interpolated (about 2.4x as fast on the paper grid, scores as the "

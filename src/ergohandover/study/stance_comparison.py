@@ -19,9 +19,6 @@ from ..robustness.search import postures_at
 from ..twin.evaluate import Evaluator, evaluate
 from .robustness import difference
 
-STANCE_NAMES = ("fixed", "step")
-"""The stances compared, the paper's planted worker first."""
-
 
 def scored(named: pd.DataFrame, evaluators: dict[str, Evaluator]) -> pd.DataFrame:
     """Each named location (columns ``worker, location, start, x, y, z``) scored by its

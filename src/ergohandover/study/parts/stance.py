@@ -26,11 +26,12 @@ import pandas as pd
 
 from ...io.atomic import atomic_write_csv
 from ...landscape.stats import optimum
+from ...twin.stance import STANCES
 from ..config import StudyConfig
 from ..engines import Engine
 from ..participants import DEFAULT_WORKER
 from ..resume import run_part
-from ..stance_comparison import STANCE_NAMES, headline, scored, under_posture_error
+from ..stance_comparison import headline, scored, under_posture_error
 from . import baselines as baselines_part
 from . import participants as participants_part
 from .shared import grid_of, landscape
@@ -78,7 +79,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                           ignore_index=True)[["worker", "location", "start", "x", "y", "z"]]
         workers = list(dict.fromkeys(named["worker"]))
         evaluators = {s: {w: config.evaluator(w, stance=s) for w in workers}
-                      for s in STANCE_NAMES}
+                      for s in STANCES}
         print(f"  {len(named)} locations of {len(workers)} workers, planted and stepping")
         table = scored(named, evaluators)
         heads = [headline(table, "optimised").assign(optimised_location="optimised")]
@@ -90,7 +91,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                      & named["location"].isin(("optimised", "shortest distance"))]
         print(f"  the default worker's comparison under posture error ({part.draws} draws)")
         errors = under_posture_error(mine.reset_index(drop=True),
-                                     {s: evaluators[s][DEFAULT_WORKER] for s in STANCE_NAMES},
+                                     {s: evaluators[s][DEFAULT_WORKER] for s in STANCES},
                                      part.angle_sds, part.draws, part.seed)
         atomic_write_csv(table, folder / "locations.csv")
         atomic_write_csv(head, folder / "headline.csv")
