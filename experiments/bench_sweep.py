@@ -2,7 +2,7 @@
 whole process tree (the sweep and its worker processes) sampled from /proc.
 
 Usage: python experiments/bench_sweep.py [--boundary paper-code] [--step 0.003] [--keep]
-       python experiments/bench_sweep.py --compare [--iterations 0] [--fine-spacing 0.006]
+       python experiments/bench_sweep.py --compare [--fine-spacing 0.006] [--check-deg 0.2]
 
 Runs ``ergohandover sweep`` with an empty landscape cache in a temporary directory (so nothing
 cached is reused) and prints the wall time, points/s and peak resident memory; then, in this
@@ -11,8 +11,8 @@ random points of the same grid, and the sweep's rate as a multiple of it — a f
 something on a shared machine, where the absolute time moves with the load. A figure, not a
 test.
 
-With ``--compare``: today's method (the coarse lattice's warm start) and the fine-lattice warm
-start (``SolverSettings(warm_start="fine")``) sweep the same grid one after the other, on every
+With ``--compare``: today's method (the coarse lattice's warm start) and the checked fine-lattice
+warm start (``SolverSettings(warm_start="fine")``) sweep the same grid one after the other, on every
 core and each into an empty cache of its own, in this run; it prints both rates, their ratio,
 the ratio to PyBullet's IK, and the share of points whose flags, paper score, REBA and RULA are
 identical (the issue's target: 2x at >= 99.5 %).
@@ -62,14 +62,14 @@ def main() -> None:
                         "of a temporary directory")
     parser.add_argument("--compare", action="store_true",
                         help="today's warm start against the fine lattice's, in one run")
-    parser.add_argument("--iterations", type=int, default=0,
-                        help="with --compare: the fine method's iterations after its "
-                        "interpolated start (default: 0)")
     parser.add_argument("--fine-spacing", type=float, default=0.006,
                         help="with --compare: the fine lattice's spacing [m] (default: 0.006)")
+    parser.add_argument("--check-deg", type=float, default=0.2,
+                        help="with --compare: how far a smooth cell's parallel edges may "
+                        "disagree [deg] (default: 0.2)")
     args = parser.parse_args()
     if args.compare:
-        compare_methods(args.boundary, float(args.step), args.iterations, args.fine_spacing)
+        compare_methods(args.boundary, float(args.step), args.fine_spacing, args.check_deg)
         return
     folder = args.keep or Path(tempfile.mkdtemp(prefix="ergohandover_bench_"))
     command = [sys.executable, "-m", "ergohandover.cli", "sweep", "--boundary", args.boundary,
@@ -109,7 +109,7 @@ def main() -> None:
           "per process")
 
 
-def compare_methods(boundary: str, step: float, iterations: int, spacing: float) -> None:
+def compare_methods(boundary: str, step: float, spacing: float, check_deg: float) -> None:
     """Today's sweep and the fine-lattice sweep of one grid, timed in this run."""
     from dataclasses import replace
 
@@ -121,7 +121,7 @@ def compare_methods(boundary: str, step: float, iterations: int, spacing: float)
 
     today = Evaluator()
     fine = replace(today, settings=replace(today.settings, warm_start="fine",
-                                           fine_iterations=iterations, fine_spacing=spacing))
+                                           fine_spacing=spacing, fine_check_deg=check_deg))
     grid = Grid(parse_boundary(boundary, today.body, today.task), step)
     print(grid.describe())
     rates, found = {}, {}

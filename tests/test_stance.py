@@ -9,7 +9,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import pytest
 
 import ergohandover.landscape.cache as cache_module
@@ -142,59 +141,3 @@ def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_loc
     # No step is one of the candidates: wherever the planted worker takes the box, so can the
     # stepping one; beyond reach (z up to 1.1 m) only the stepping one can.
     assert np.all(stepping[planted]) and stepping.sum() > planted.sum()
-
-
-def test_the_fine_warm_start_depends_on_the_location_alone():
-    # Nodes are solved on first use: a location's start (and so its posture) must not depend
-    # on which other locations came first, in this process or another.
-    from ergohandover.twin.solver import SolverSettings
-
-    fine = Evaluator(settings=SolverSettings(warm_start="fine", fine_iterations=4))
-    points = np.array([[0.0, 1.0, 0.42], [0.1, 1.2, 0.55], [-0.15, 0.8, 0.33]])
-    from ergohandover.twin import evaluate as evaluation
-
-    together = evaluate(points, fine, joints=True)
-    assert together["feasible"].tolist() == [1, 1, 0]  # an infeasible one too
-    for i in reversed(range(len(points))):
-        evaluation._SOLVERS.pop(fine)  # a new solver: no node solved yet
-        alone = evaluate(points[i:i + 1], fine, joints=True)
-        pd.testing.assert_frame_equal(alone, together.iloc[i:i + 1].reset_index(drop=True))
-
-
-def test_the_fine_lattice_nodes_are_todays_solves():
-    # At a node the interpolation puts (all but rounding of) its whole weight on that node, and
-    # the node was solved exactly as today's warm start solves a location: with no further
-    # iterations the two postures agree.
-    from ergohandover.twin.solver import SolverSettings
-
-    fine = Evaluator(settings=SolverSettings(warm_start="fine"))
-    nodes = np.array([[0.0, 1.002, 0.42], [0.102, 1.2, 0.552], [-0.15, 0.9, 0.33]])
-    today = evaluate(nodes, joints=True)
-    found = evaluate(nodes, fine, joints=True)
-    joints = [c for c in today.columns if c.startswith("q_")]
-    assert np.abs(found[joints].to_numpy() - today[joints].to_numpy()).max() < 1e-9
-    assert found["reba"].tolist() == today["reba"].tolist()
-
-
-def test_sweep_takes_the_fine_warm_start_into_a_landscape_of_its_own(tmp_path, monkeypatch,
-                                                                     capsys):
-    found = sweep_each(tmp_path, monkeypatch, capsys, "-0.1,0.1,0.9,1.2,0.35,0.55", "0.05",
-                       "--warm-start", ("lattice", "fine"))
-    assert found["lattice"].path != found["fine"].path
-    # Interpolated solves of the same twin: the same feasibility almost everywhere, and where
-    # both are feasible the paper score rarely moves, never by more than a little.
-    today, fine = found["lattice"].arrays, found["fine"].arrays
-    assert np.mean(today["flags"] == fine["flags"]) >= 0.9
-    both = (today["flags"] == 0) & (fine["flags"] == 0)
-    moved = np.abs(today["paper_postural"][both].astype(int) - fine["paper_postural"][both])
-    assert both.sum() > 50 and np.mean(moved == 0) >= 0.9 and moved.max() <= 2
-
-
-def test_sweep_refuses_a_bad_warm_start_in_one_line():
-    for flags, words in ((["--warm-start", "coarse"], ("coarse", "lattice", "fine")),
-                         (["--warm-start", "fine", "--solver", "pybullet"], ("pybullet",))):
-        bad = run_cli("sweep", "--boundary", "-0.1,0.1,0.9,1.2,0.35,0.55", "--step", "0.1",
-                      *flags)
-        assert bad.returncode == 2 and bad.stdout == ""
-        assert len(bad.stderr.strip().splitlines()) == 1 and "--warm-start" in bad.stderr
-        assert all(w in bad.stderr for w in words)

@@ -1,21 +1,22 @@
-"""Could a better warm start make the sweep faster without changing its scores? Today's solve
-(10 iterations from the coarse lattice) beside the fine warm start (``SolverSettings(
-warm_start="fine")``: today's solves at the nodes of a lattice every ``fine_spacing``,
-interpolated, then ``fine_iterations``): the share of locations scoring identically, how the
-others differ, and the time.
+"""How far can the fine warm start trust its interpolation? Today's solve (10 iterations from the
+coarse lattice) beside the checked fine warm start (``SolverSettings(warm_start="fine")``:
+today's solves at the nodes of a lattice every ``fine_spacing``, interpolated and scored; the
+locations whose cell fails the check of ``FineLattice.unsure`` solved as today): the share of
+locations re-solved, the share scoring identically, how the others differ, and the time.
 
 Usage: python experiments/tools/warm_start_agreement.py [--locations 20000] [--seed 0]
-       [--spacings 0.006,0.01] [--iterations 0,1,2] [--reference 60]
+       [--spacings 0.006,0.009] [--checks 0,0.1,0.2,0.5,10] [--reference 60]
 
 Random points of the paper's 3 mm paper-code grid, default worker and task, one process. Per
-spacing and iteration count: the share whose flags, paper score, REBA and RULA all equal
-today's, and those that equal a converged solve's (``--reference`` iterations from the coarse
-lattice; today's own agreement with it is printed first); then where the two differ — flags,
-the paper score's and REBA's change where both are feasible, the mean height of the differing
-points, the share at the paper score's minimum — and the time per location against today's
-with the lattice's nodes already solved (on a whole grid they cost about an eighth of today's
-sweep at 6 mm: ``experiments/bench_sweep.py --compare`` times the two sweeps end to end). A
-figure, not a test.
+spacing and check (``fine_check_deg``; at 0 only cells whose eight corners all score as the
+location are trusted, at 10 nearly every cell with one corner that does): the share re-solved, the
+share whose flags, paper score, REBA and RULA all equal today's, and those that equal a converged
+solve's (``--reference`` iterations from the coarse lattice; today's own agreement with it is
+printed first); then where the two differ — flags, the paper score's and REBA's change where
+both are feasible, the mean height of the differing points, the share at the paper score's
+minimum — and the time per location against today's with the lattice's nodes already solved
+(random points share few nodes, so on a whole grid the nodes cost more than here:
+``experiments/bench_sweep.py --compare`` times the two sweeps end to end). A figure, not a test.
 """
 
 from __future__ import annotations
@@ -32,7 +33,9 @@ from dataclasses import replace  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ergohandover.landscape.grid import Grid, parse_boundary  # noqa: E402
+from ergohandover.twin import evaluate as evaluation  # noqa: E402
 from ergohandover.twin.evaluate import Evaluator, evaluate_batch, posture_solver  # noqa: E402
+from ergohandover.twin.warm_start import FineLattice  # noqa: E402
 
 COLUMNS = ("flags", "paper_postural", "reba", "rula")
 
@@ -72,8 +75,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--locations", type=int, default=20000)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--spacings", type=numbers, default=[0.006, 0.01])
-    parser.add_argument("--iterations", type=lambda t: numbers(t, int), default=[0, 1, 2])
+    parser.add_argument("--spacings", type=numbers, default=[0.006, 0.009])
+    parser.add_argument("--checks", type=numbers, default=[0.0, 0.1, 0.2, 0.5, 10.0])
     parser.add_argument("--reference", type=int, default=60)
     args = parser.parse_args()
     evaluator = Evaluator()
@@ -92,19 +95,31 @@ def main() -> None:
     converged = evaluate_batch(reference, points)
     print(f"today's solve scores as a {args.reference}-iteration one at "
           f"{100 * same(today, converged).mean():.2f}% of them")
+    unsure = FineLattice.unsure.__func__
+    redone = []
+
+    def counted(cls, *arguments):  # the share each call re-solves, for the report
+        found = unsure(cls, *arguments)
+        redone.append(found)
+        return found
+
+    FineLattice.unsure = classmethod(counted)
     for h in args.spacings:
-        for k in args.iterations:
+        for check in args.checks:
             fine = replace(evaluator, settings=replace(
-                evaluator.settings, warm_start="fine", fine_spacing=h, fine_iterations=k))
-            posture_solver(fine).fine.start(points)  # the nodes, solved outside the timing
+                evaluator.settings, warm_start="fine", fine_spacing=h, fine_check_deg=check))
+            evaluate_batch(fine, points)  # the nodes, solved outside the timing
+            redone.clear()
             start = time.perf_counter()
             found = evaluate_batch(fine, points)
             took = time.perf_counter() - start
+            share = 100 * np.concatenate(redone).mean()
             agree = [100 * same(found, other).mean() for other in (today, converged)]
-            print(f"spacing {h:.3f} m, {k} iterations: as today's {agree[0]:.2f}%, as "
-                  f"{args.reference} iterations {agree[1]:.2f}%, time {took / today_s:.2f} "
-                  "of today's (nodes solved)\n  "
+            print(f"spacing {h:.3f} m, check {check:g} deg: re-solved {share:.2f}%, as today's "
+                  f"{agree[0]:.2f}%, as {args.reference} iterations {agree[1]:.2f}%, time "
+                  f"{took / today_s:.2f} of today's (nodes solved)\n  "
                   + differences(found, today, points))
+            evaluation._FINE.pop(fine)  # the next setting's nodes are its own
 
 
 if __name__ == "__main__":

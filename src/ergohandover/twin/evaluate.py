@@ -28,6 +28,7 @@ from .collision import BodyProbes
 from .solver import PostureSolver, SolverSettings
 from .stance import chosen_step, step_offsets
 from .task import TaskSpec
+from .warm_start import FineLattice
 
 SOLVERS = ("whole-body", "pybullet")
 """The twin's posture solvers: its own whole-body solver (balance, gaze, palms; compiled) and
@@ -42,7 +43,9 @@ intersects the torso, head or legs; the centre of mass (box included) leaves the
 Compact files store them as bits of a ``flags`` byte, in this order (bit 0 = hand_miss)."""
 EVALUATION_COLUMNS = ("x", "y", "z", "feasible", "reason", "hand_error_m", *POSTURE_COLUMNS,
                       *SCORE_COLUMNS)
-CHUNK = 500  # locations per call: small arrays for the numpy stages, frequent progress
+CHUNK = 4000
+"""Locations per call: arrays small enough for the numpy stages, progress a few times a second,
+and few enough calls that their fixed cost (~1 ms to score a call) stays small."""
 JOINT_PREFIX = "q_"
 """Joint-angle columns (``q_<joint>`` [rad], one per movable joint of the twin) that
 :func:`evaluate_batch` adds: the solved posture, for pictures and the robot scene."""
@@ -72,6 +75,10 @@ class Evaluator:
             if getattr(self, name) not in allowed:
                 raise EvaluationError(f"{name} = {getattr(self, name)!r} is not allowed (use "
                                       f"{' or '.join(repr(s) for s in allowed)})")
+        if self.settings.warm_start == "fine" and self.solver != "whole-body":
+            raise EvaluationError(f"warm_start = 'fine' is not allowed with solver = "
+                                  f"{self.solver!r} (it interpolates the whole-body solver's "
+                                  "postures: use solver 'whole-body')")
         if self.task.stance == "step" and self.solver != "whole-body":
             raise EvaluationError(f"stance = 'step' is not allowed with solver = "
                                   f"{self.solver!r} (a step is chosen by the whole-body "
@@ -139,8 +146,20 @@ def _planted_batch(evaluator: Evaluator, locations: np.ndarray, columns: Iterabl
                    cost: bool = False) -> dict[str, np.ndarray]:
     """:func:`evaluate_batch` with the feet where they stand (and the solver's objective as
     ``cost`` if asked)."""
+    if evaluator.settings.warm_start == "fine":
+        out = _fine_rows(evaluator, locations)
+    else:
+        out = _rows(evaluator, locations, posture_solver(evaluator).solve(locations))
+    if not cost:
+        del out["cost"]
+    if columns is None or "reason" in columns:  # strings: only for those who ask
+        out["reason"] = reason_text(out["flags"])
+    return out if columns is None else {c: out[c] for c in columns}
+
+
+def _rows(evaluator: Evaluator, locations: np.ndarray, solution) -> dict[str, np.ndarray]:
+    """The numeric columns (and ``cost``) of solved postures: feasibility, posture, scores."""
     solver = posture_solver(evaluator)
-    solution = solver.solve(locations)
     st = solution.state
     task = evaluator.task
     centre = solver.targets(locations).box
@@ -160,14 +179,48 @@ def _planted_batch(evaluator: Evaluator, locations: np.ndarray, columns: Iterabl
     scores = score_postures(Posture(posture), evaluator.scoring)
     joints = {JOINT_PREFIX + name: solution.q[:, i]
               for i, name in enumerate(solver.model.joint_names)}
-    out = {"x": locations[:, 0], "y": locations[:, 1], "z": locations[:, 2],
-           "feasible": flags == 0, "hand_error_m": solution.hand_error,
-           "flags": flags, "step_m": np.zeros(len(locations)), **posture, **scores, **joints}
-    if cost:
-        out["cost"] = solution.cost
-    if columns is None or "reason" in columns:  # strings: only for those who ask
-        out["reason"] = reason_text(flags)
-    return out if columns is None else {c: out[c] for c in columns}
+    return {"x": locations[:, 0].copy(), "y": locations[:, 1].copy(),
+            "z": locations[:, 2].copy(), "feasible": flags == 0,
+            "hand_error_m": solution.hand_error, "flags": flags,
+            "step_m": np.zeros(len(locations)), **posture, **scores, **joints,
+            "cost": solution.cost}
+
+
+def _score_code(rows: dict[str, np.ndarray]) -> np.ndarray:
+    """(N,) int64: the flags and, where feasible, the paper score, REBA and RULA in one number
+    (two rows have the same code when a landscape stores the same flags and scores for them)."""
+    feasible = rows["flags"] == 0
+    code = rows["flags"].astype(np.int64)
+    for shift, name in ((8, "paper_postural"), (16, "reba"), (24, "rula")):
+        score = np.where(feasible, np.asarray(rows[name], dtype=np.int64) + 1, 0)
+        code |= score << shift
+    return code
+
+
+_FINE: dict[Evaluator, FineLattice] = {}
+
+
+def _fine_rows(evaluator: Evaluator, locations: np.ndarray) -> dict[str, np.ndarray]:
+    """:func:`_rows` of the fine warm start (``SolverSettings.warm_start == "fine"``): each
+    location interpolated from its cell of today's solves; those the cell's check leaves unsure
+    (:meth:`FineLattice.unsure`) solved as today."""
+    solver, settings = posture_solver(evaluator), evaluator.settings
+    if evaluator not in _FINE:
+        def solve_nodes(nodes):
+            rows = _rows(evaluator, nodes, solver.solve(nodes))
+            return np.stack([rows[JOINT_PREFIX + n] for n in solver.model.joint_names],
+                            axis=1), _score_code(rows)
+
+        _FINE[evaluator] = FineLattice(settings.fine_spacing, solve_nodes)
+    q, code, weight = _FINE[evaluator].corners(locations)
+    start = FineLattice.interpolate(q, weight)
+    out = _rows(evaluator, locations, solver.iterate(locations, start, 0))
+    redo = FineLattice.unsure(q, code, _score_code(out), np.radians(settings.fine_check_deg))
+    if redo.any():
+        again = _rows(evaluator, locations[redo], solver.solve(locations[redo]))
+        for name, values in again.items():
+            out[name][redo] = values
+    return out
 
 
 def reason_text(flags: np.ndarray) -> np.ndarray:

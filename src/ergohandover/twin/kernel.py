@@ -135,7 +135,8 @@ def _solve_one(start, target, iterations, kin, task, scratch, work, bufs):
     for j in range(nq):
         q[j] = start[j]
     cost = residuals(q, target, kin, task, scratch, res)
-    jacobian(kin, task, scratch, res, jt)
+    if iterations > 0:  # no step, no Jacobian: a start scored as it is costs one evaluation
+        jacobian(kin, task, scratch, res, jt)
     lam = scalars[5]
     used, fresh, current = iterations, True, True
     for it in range(iterations):

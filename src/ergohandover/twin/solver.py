@@ -48,7 +48,7 @@ from .kinematics import KinematicModel, KinematicState
 from .skeleton import build_skeleton
 from .task import TaskSpec
 from .tasks import Targets, stack_tasks
-from .warm_start import FineLattice, StartLattice
+from .warm_start import StartLattice
 
 # Joint -> (neutral angle [deg], preference weight). Higher weight: the twin moves that joint
 # less. What each changes: ankle/knee - how readily the twin squats rather than stoops;
@@ -144,18 +144,19 @@ class SolverSettings:
             toward 0 (the neutral stance) by this factor.
         strategies: the whole-body strategies (``STRATEGY_DEG``) each lattice node is solved
             from; the node keeps the posture of lowest cost.
-        warm_start: where a location's solve starts. "lattice" (the default): the coarse
-            lattice's interpolation, then ``iterations``. "fine": the interpolation of a fine
-            lattice (every ``fine_spacing``) whose nodes are solved as "lattice" solves a
-            location, then ``fine_iterations`` more. At 6 mm and 0 iterations it sweeps the
-            paper's 3 mm grid 2.4x as fast, with flags and scores as "lattice"'s at 98.2 % of
-            its points (``experiments/bench_sweep.py --compare``); today's solve is not
-            converged, so iterating further moves a start away from it
-            (``experiments/tools/warm_start_agreement.py``).
+        warm_start: how a location is solved. "lattice" (the default): ``iterations`` from the
+            coarse lattice's interpolation. "fine": the interpolation of a fine lattice (every
+            ``fine_spacing``) whose nodes are solved as "lattice" solves a location, scored
+            as it is; where the check of ``FineLattice.unsure`` fails (the location's cell
+            scores unalike and is not smooth within ``fine_check_deg``) the location is solved
+            as "lattice" solves it. Its flags and scores equal "lattice"'s at >= 99.5 % of the
+            paper's 3 mm grid, in about half the time (``experiments/bench_sweep.py
+            --compare``). It is the evaluation's (``twin/evaluate.py``), which scores.
         fine_spacing: the fine lattice's node spacing [m].
-        fine_iterations: iterations from the fine lattice's interpolation.
+        fine_check_deg: how far a smooth cell's parallel edges may disagree [deg].
 
-    The last four exist for the sensitivity study; at their defaults they change nothing.
+    The four before the warm-start fields exist for the sensitivity study; at their defaults
+    they change nothing.
     """
 
     hand: float = 1e4
@@ -175,10 +176,12 @@ class SolverSettings:
     range_of_motion: float = ranged(1.0, "fraction of each joint's range of motion used",
                                     0.5, 1.0)
     strategies: tuple[str, ...] = tuple(STRATEGY_DEG)
-    warm_start: str = ranged("lattice", "where a solve starts: the coarse lattice, or a fine "
-                             "lattice of solved postures", choices=("lattice", "fine"))
+    warm_start: str = ranged("lattice", "how a location is solved: from the coarse lattice, "
+                             "or a checked fine lattice of solved postures",
+                             choices=("lattice", "fine"))
     fine_spacing: float = ranged(0.006, "the fine lattice's node spacing [m]", 0.002, 0.05)
-    fine_iterations: int = ranged(0, "iterations from the fine lattice's interpolation", 0, 100)
+    fine_check_deg: float = ranged(0.2, "how far a smooth cell's parallel edges may disagree "
+                                   "[deg]", 0.0, 10.0)
 
     def __post_init__(self):
         check_ranges(self, SolverSettingsError)
@@ -251,7 +254,6 @@ class PostureSolver:
         self.sight = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])  # gaze-link frame
         self.eye_cone = np.radians(EYE_CONE_DEG)
         self._lattice: StartLattice | None = None
-        self._fine: FineLattice | None = None
         self._packed = None  # the kernel's arrays, built on first use
 
     @property
@@ -298,19 +300,7 @@ class PostureSolver:
     def solve(self, locations: np.ndarray) -> Solution:
         """Postures for box centres at ``locations`` (N, 3), worker frame [m]."""
         locations = np.asarray(locations, dtype=float).reshape(-1, 3)
-        if self.settings.warm_start == "fine":
-            return self.iterate(locations, self.fine.start(locations),
-                                self.settings.fine_iterations)
         return self.iterate(locations, self.lattice.start(locations), self.settings.iterations)
-
-    @property
-    def fine(self) -> FineLattice:
-        """The fine lattice of warm starts, its nodes solved as the default warm start solves a
-        location (``iterations`` from the coarse lattice), on first use."""
-        if self._fine is None:
-            self._fine = FineLattice(self.settings.fine_spacing, lambda nodes: self.iterate(
-                nodes, self.lattice.start(nodes), self.settings.iterations).q)
-        return self._fine
 
     def targets(self, locations: np.ndarray) -> Targets:
         """Handles and box centre in the world frame for (N, 3) worker-frame locations."""

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..ranges import check_ranges, ranged
 from .anthropometry import BodySpec
+from .stance import STANCES
 
 
 class TaskSpecError(ConfigError):
@@ -50,7 +51,7 @@ class TaskSpec:
     gaze: str = ranged("on", "keep the box in view ('on') or ignore where the worker looks "
                        "('off')", choices=("on", "off"))
     stance: str = ranged("fixed", "the feet stay planted ('fixed', the paper's worker) or may "
-                         "take one step toward the box ('step')", choices=("fixed", "step"))
+                         "take one step toward the box ('step')", choices=STANCES)
 
     def __post_init__(self):
         check_ranges(self, TaskSpecError)
