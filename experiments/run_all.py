@@ -61,10 +61,10 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 142, "baselines": 277, "ablations": 66,
-                          "participants": 70, "population": 479, "sensitivity": 154,
-                          "validation": 6, "robustness": 418, "stance": 22, "personalise": 637,
-                          "figures": 35},
+ESTIMATE_S = {"default": {"landscape": 150, "baselines": 298, "ablations": 95,
+                          "participants": 71, "population": 539, "sensitivity": 164,
+                          "validation": 6, "robustness": 447, "stance": 25, "personalise": 707,
+                          "figures": 40},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}

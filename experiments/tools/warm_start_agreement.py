@@ -9,14 +9,15 @@ Usage: python experiments/tools/warm_start_agreement.py [--locations 20000] [--s
 
 Random points of the paper's 3 mm paper-code grid, default worker and task, one process. Per
 spacing and check (``fine_check_deg``; at 0 only cells whose eight corners all score as the
-location are trusted, at 10 nearly every cell with one corner that does): the share re-solved, the
-share whose flags, paper score, REBA and RULA all equal today's, and those that equal a converged
-solve's (``--reference`` iterations from the coarse lattice; today's own agreement with it is
-printed first); then where the two differ — flags, the paper score's and REBA's change where
-both are feasible, the mean height of the differing points, the share at the paper score's
-minimum — and the time per location against today's with the lattice's nodes already solved
-(random points share few nodes, so on a whole grid the nodes cost more than here:
-``experiments/bench_sweep.py --compare`` times the two sweeps end to end). A figure, not a test.
+location are trusted, at 10 nearly every cell with one corner that does): the share re-solved,
+the share whose flags and, where feasible, paper score, REBA and RULA all equal today's (as a
+landscape stores them), and those that equal a converged solve's (``--reference`` iterations
+from the coarse lattice; today's own agreement with it is printed first); then where the two
+differ — flags, the paper score's and REBA's change where both are feasible, the mean height of
+the differing points, the share at the paper score's minimum — and the time per location against
+today's with the lattice's nodes already solved (random points share few nodes, so on a whole
+grid the nodes cost more than here: ``experiments/bench_sweep.py --compare`` times the two
+sweeps end to end). A figure, not a test.
 """
 
 from __future__ import annotations
@@ -45,10 +46,12 @@ def numbers(text: str, kind=float) -> list:
 
 
 def same(found: dict, other: dict) -> np.ndarray:
-    """(N,) bool: flags and every score equal."""
-    equal = np.ones(len(found["flags"]), dtype=bool)
-    for column in COLUMNS:
-        equal &= np.asarray(found[column]) == np.asarray(other[column])
+    """(N,) bool: identical as a landscape stores them — the flags, and where feasible the
+    scores (an infeasible location's scores are not kept)."""
+    flags = np.asarray(found["flags"])
+    equal = flags == np.asarray(other["flags"])
+    for column in COLUMNS[1:]:
+        equal &= (flags != 0) | (np.asarray(found[column]) == np.asarray(other[column]))
     return equal
 
 
