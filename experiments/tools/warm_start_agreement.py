@@ -34,7 +34,6 @@ from dataclasses import replace  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ergohandover.landscape.grid import Grid, parse_boundary  # noqa: E402
-from ergohandover.twin import evaluate as evaluation  # noqa: E402
 from ergohandover.twin.evaluate import Evaluator, evaluate_batch, posture_solver  # noqa: E402
 from ergohandover.twin.warm_start import FineLattice  # noqa: E402
 
@@ -70,7 +69,8 @@ def differences(found: dict, today: dict, points: np.ndarray) -> str:
     return (f"flags differ {100 * flags.mean():.2f}%; both feasible: paper score moves by 1 at "
             f"{100 * np.mean(paper == 1):.2f}%, by 2 or more at {100 * np.mean(paper >= 2):.2f}%,"
             f" REBA differs at {100 * reba.mean():.2f}%; differing points' mean height "
-            f"{points[moved, 1].mean():.2f} m (all {points[:, 1].mean():.2f} m); paper score "
+            f"{f'{points[moved, 1].mean():.2f} m' if moved.any() else '-'} (all "
+            f"{points[:, 1].mean():.2f} m); paper score "
             f"{low:.0f} at {at_min[0]:.2f}% of feasible points today, {at_min[1]:.2f}% here")
 
 
@@ -122,7 +122,6 @@ def main() -> None:
                   f"{agree[0]:.2f}%, as {args.reference} iterations {agree[1]:.2f}%, time "
                   f"{took / today_s:.2f} of today's (nodes solved)\n  "
                   + differences(found, today, points))
-            evaluation._FINE.pop(fine)  # the next setting's nodes are its own
 
 
 if __name__ == "__main__":
