@@ -207,9 +207,8 @@ def _fine_rows(evaluator: Evaluator, locations: np.ndarray) -> dict[str, np.ndar
     solver, settings = posture_solver(evaluator), evaluator.settings
     if evaluator not in _FINE:
         def solve_nodes(nodes):
-            rows = _rows(evaluator, nodes, solver.solve(nodes))
-            return np.stack([rows[JOINT_PREFIX + n] for n in solver.model.joint_names],
-                            axis=1), _score_code(rows)
+            solution = solver.solve(nodes)
+            return solution.q, _score_code(_rows(evaluator, nodes, solution))
 
         _FINE[evaluator] = FineLattice(settings.fine_spacing, solve_nodes)
     q, code, weight = _FINE[evaluator].corners(locations)

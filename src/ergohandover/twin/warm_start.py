@@ -147,9 +147,9 @@ class FineLattice:
         """
         alike = code == found[:, None]
         unsure = ~alike.all(axis=1)
-        smooth_enough = np.flatnonzero(unsure & alike.any(axis=1))  # only these need the twist
-        change = q[smooth_enough[:, None, None], cls.EDGE_TO] - q[smooth_enough[:, None, None],
-                                                                  cls.EDGE_FROM]  # (M, 3, 4, nq)
+        tested = np.flatnonzero(unsure & alike.any(axis=1))  # only these need the twist
+        change = q[tested[:, None, None], cls.EDGE_TO] - q[tested[:, None, None],
+                                                           cls.EDGE_FROM]  # (M, 3, 4, nq)
         twist = np.abs(change - change.mean(axis=2, keepdims=True)).max(axis=(1, 2, 3))
-        unsure[smooth_enough[twist <= max_twist]] = False
+        unsure[tested[twist <= max_twist]] = False
         return unsure
