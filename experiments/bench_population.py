@@ -72,7 +72,7 @@ def overhead_per_task(executor) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--workforce", type=int, default=6, help="workers (default: 6)")
     parser.add_argument("--step", type=float, default=0.01, help="grid step [m] (default 0.01)")
     parser.add_argument("--cores", type=int, nargs="+", default=[16, 64, 256],

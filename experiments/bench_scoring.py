@@ -31,7 +31,7 @@ TARGET_PER_S = 2_000_000
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--postures", type=int, default=1_000_000, help="postures per repeat")
     parser.add_argument("--repeats", type=int, default=5, help="timed repeats")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random postures")

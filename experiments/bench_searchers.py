@@ -96,7 +96,7 @@ def sac_steps_per_s(landscape, steps: int, seed: int) -> float:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--searchers", default="random,prior,bo,tpe,cmaes,pso")
     parser.add_argument("--sizes", default="10,100,250,1000")
     parser.add_argument("--cap", type=float, default=120.0, help="seconds per run")

@@ -56,9 +56,12 @@ def tree_rss_kb(root: int) -> int:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--boundary", default="paper-code")
-    parser.add_argument("--step", default="0.003")
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("--boundary", default="paper-code",
+                        help="the grid's boundary, as ergohandover sweep takes it "
+                        "(default: paper-code)")
+    parser.add_argument("--step", default="0.003",
+                        help="the grid's spacing [m] (default: 0.003, the paper's)")
     parser.add_argument("--keep", type=Path, help="keep the cache and statistics here instead "
                         "of a temporary directory")
     parser.add_argument("--compare", action="store_true",

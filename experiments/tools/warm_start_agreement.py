@@ -75,7 +75,7 @@ def differences(found: dict, today: dict, points: np.ndarray) -> str:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--locations", type=int, default=20000)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--spacings", type=numbers, default=[0.006, 0.009])
