@@ -2,8 +2,10 @@
 
 A part is finished when its results/<part>/manifest.json matches its configuration and the
 twin's code: a fresh clone reuses every committed part and only rebuilds the figures and
-tables (half a minute); --force recomputes everything (44 minutes on 2 cores from an empty
-landscape cache); an interrupted run resumes at the first unfinished part.
+tables (half a minute); --force recomputes every part (the README gives the committed run's
+time on 2 cores; a run prints its estimate first) but reuses the landscapes this twin already
+has in the cache ($ERGOHANDOVER_CACHE; empty it to time a run from scratch); an interrupted
+run resumes at the first unfinished part.
 
 Parts, in order:
   landscape     the exhaustive sweep of the default worker (the paper's 3-hour evaluation)
@@ -61,10 +63,10 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 150, "baselines": 298, "ablations": 95,
-                          "participants": 71, "population": 539, "sensitivity": 164,
-                          "validation": 6, "robustness": 447, "stance": 25, "personalise": 707,
-                          "figures": 40},
+ESTIMATE_S = {"default": {"landscape": 152, "baselines": 284, "ablations": 81,
+                          "participants": 73, "population": 541, "sensitivity": 153,
+                          "validation": 6, "robustness": 408, "stance": 25, "personalise": 683,
+                          "figures": 37},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}
