@@ -22,6 +22,7 @@ from ergohandover.robustness.posture_error import (
     expected_scores,
     monte_carlo,
     perturbed,
+    scores_of,
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
 from ergohandover.study.config import RobustnessConfig
@@ -105,6 +106,18 @@ def test_expected_scores_agree_with_the_monte_carlo_mean():
     mc = monte_carlo(posture, ErrorModel(5.0), 20_000, np.random.default_rng(5))
     se = np.sqrt(2) * mc.sd["paper_postural"][0] / np.sqrt(20_000)
     assert abs(common - mc.mean["paper_postural"][0]) < 4 * se
+
+
+def test_scoring_only_the_scores_asked_for_gives_score_postures_columns():
+    posture = Posture.random(2000, np.random.default_rng(3))
+    every = score_postures(posture)
+    for names in (("paper_postural",), ("rula", "reba_ab"), tuple(every)):
+        only = scores_of(posture, names)
+        assert list(only) == list(names)
+        for name in names:
+            np.testing.assert_array_equal(only[name], every[name])
+    with pytest.raises(ConfigError, match="'owas' is not allowed"):
+        scores_of(posture, ("owas_back",))
 
 
 def test_a_margin_is_the_smallest_move_that_changes_the_score():

@@ -142,6 +142,17 @@ def test_bo_learns_where_the_infeasible_region_is():
     assert infeasible <= 10  # the feasibility model steers it away (about half at random)
 
 
+def test_bo_proposes_what_optunas_own_path_proposes(monkeypatch):
+    # GPSearcher skips the cost of Optuna's torch device mode; the proposals must not change.
+    from ergohandover.learning.optuna_searchers import GPSearcher, OptunaSearcher
+
+    values = bowl_values(lambda i, j, k: i >= 8)
+    fast = run("bo", seed=3, budget=18, prior=PRIOR, values=values)
+    monkeypatch.setattr(GPSearcher, "_ask_trial", OptunaSearcher._ask_trial)
+    plain = run("bo", seed=3, budget=18, prior=PRIOR, values=values)
+    assert fast.cells == plain.cells and len(fast.cells) == 18
+
+
 def test_bo_adds_known_answers_without_proposing_them():
     s = searcher("bo")
     known = [(c, float(VALUES[c])) for c in (0, 100, 2_000, 3_374)]  # 3,374: infeasible

@@ -97,7 +97,8 @@ def add_parser(subparsers) -> None:
     add_gui_argument(parser, "the first start's optimised location: the worker in its solved "
                      "posture holding the box there, the robot at the end of its carry (or "
                      "holding it there, if the carry was not planned)")
-    add_workers_argument(parser, "processes for a sweep and for planning carries")
+    add_workers_argument(parser, "processes for a sweep, for planning carries and for the "
+                         "pictures")
     parser.set_defaults(run=run)
 
 
@@ -148,7 +149,8 @@ def run(args: argparse.Namespace) -> int:
     written = [output, md_path]
     if robust is not None:
         written.append(atomic_write_csv(robust, output.with_name("robust.csv")))
-    pictures = render(result, evaluator, robot, args.render) if args.render else []
+    pictures = (render(result, evaluator, robot, args.render, args.workers) if args.render
+                else [])
     paths = write_paths(result, evaluator, robot, args.paths) if args.paths else []
     write_manifest(output, config={
         "starts": starts.tolist(), "evaluator": dataclasses.asdict(evaluator),

@@ -32,45 +32,54 @@ def write_paths(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) ->
     return written
 
 
-def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
+def render(result, evaluator: Evaluator, robot: RobotSpec, folder: Path,
+           workers: int = 1) -> list[Path]:
     """A PNG per row (the robot at the handover: the carry's last pose, else the best hold it
-    finds there), a contact sheet of them and a GIF per planned carry."""
-    from ..scene.render import save_png
-    from ..scene.scene_render import (
-        SceneRenderer,
-        baseline_caption,
-        carry_gif,
-        contact_sheet,
-        short_label,
-    )
-    from ..scene.world import World
+    finds there), a contact sheet of them and a GIF per planned carry; the rows are rendered
+    over ``workers`` processes, each in a scene of its own (every picture sets the whole
+    scene, so where it is drawn does not change it)."""
+    from ..executor import LocalExecutor
+    from ..scene.scene_render import contact_sheet, short_label
 
     folder.mkdir(parents=True, exist_ok=True)
-    paths, gifs, cells = [], [], []
-    with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
-        world = renderer.world
-        rows = result.table.to_dict("records")
-        for i, (row, plan, posture) in enumerate(zip(rows, result.plans, result.postures,
-                                                     strict=True)):
-            location = np.array([row["x"], row["y"], row["z"]])
-            if plan.ok:
-                last = plan.waypoints[-1]
-                arms, lift = last.q, last.lift
-            else:  # the hold found at the location on its own, else the lowest lift's try
-                reach, lift = world.hold_at_some_lift(location, posture)
-                arms = reach.q
-            renderer.pose(location, arms, posture, lift)
-            views = renderer.views()
-            name = f"start{i // 2 + 1}_{row['method']}"
-            paths.append(save_png(views, baseline_caption(row), folder / f"{name}.png"))
-            cells.append((views, short_label(row, i // 2 + 1)))
-            if plan.ok:
-                gifs.append(carry_gif(renderer, plan, posture, folder / f"{name}.gif"))
-        sheet = contact_sheet(cells, folder / "baseline_sheet.png")
+    rows = result.table.to_dict("records")
+    jobs = [(evaluator, robot, row, plan, posture, folder / f"start{i // 2 + 1}_{row['method']}")
+            for i, (row, plan, posture) in enumerate(zip(rows, result.plans, result.postures,
+                                                         strict=True))]
+    with LocalExecutor(workers) as executor:
+        drawn = list(executor.map(_render_row, jobs))
+    cells = [(views, short_label(row, i // 2 + 1))
+             for i, (row, (views, _)) in enumerate(zip(rows, drawn, strict=True))]
+    sheet = contact_sheet(cells, folder / "baseline_sheet.png")
+    paths = [path for _, written in drawn for path in written[:1]]
+    gifs = [path for _, written in drawn for path in written[1:]]
     print(f"wrote {len(paths)} pictures, {sheet.name} and {len(gifs)} GIFs into {folder}",
           file=sys.stderr)
     return [*paths, sheet, *gifs]
 
+
+def _render_row(job: tuple):
+    """One row's picture (and its carry's GIF, when planned), in a scene of its own: the
+    views drawn and the files written."""
+    from ..scene.render import save_png
+    from ..scene.scene_render import SceneRenderer, baseline_caption, carry_gif
+    from ..scene.world import World
+
+    evaluator, robot, row, plan, posture, stem = job
+    with SceneRenderer(World(evaluator.body, evaluator.task, robot)) as renderer:
+        location = np.array([row["x"], row["y"], row["z"]])
+        if plan.ok:
+            last = plan.waypoints[-1]
+            arms, lift = last.q, last.lift
+        else:  # the hold found at the location on its own, else the lowest lift's try
+            reach, lift = renderer.world.hold_at_some_lift(location, posture)
+            arms = reach.q
+        renderer.pose(location, arms, posture, lift)
+        views = renderer.views()
+        written = [save_png(views, baseline_caption(row), stem.with_suffix(".png"))]
+        if plan.ok:
+            written.append(carry_gif(renderer, plan, posture, stem.with_suffix(".gif")))
+    return views, written
 
 
 def start_numbers(table):

@@ -132,7 +132,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         atomic_write_csv(reach_summary(reach, best, part.reach),
                          folder / "reachability_summary.csv")
         if part.render:
-            render(result, evaluator, robot, folder / "renders")
+            render(result, evaluator, robot, folder / "renders", engine.workers)
             record(table, landscape.grid.boundary, evaluator, folder / "paths",
                    folder / "recordings")
         return {"starts": len(PAPER_STARTS),
