@@ -116,8 +116,9 @@ def test_scoring_only_the_scores_asked_for_gives_score_postures_columns():
         assert list(only) == list(names)
         for name in names:
             np.testing.assert_array_equal(only[name], every[name])
-    with pytest.raises(ConfigError, match="'owas' is not allowed"):
-        scores_of(posture, ("owas_back",))
+    for unknown in ("owas_back", "reba_neck_twist"):
+        with pytest.raises(ConfigError, match=f"score = '{unknown}' is not allowed"):
+            scores_of(posture, ("reba", unknown))
 
 
 def test_a_margin_is_the_smallest_move_that_changes_the_score():

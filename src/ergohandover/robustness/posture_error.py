@@ -50,14 +50,13 @@ def scores_of(posture: Posture, names: Sequence[str]) -> dict[str, np.ndarray]:
     """The named columns of :func:`~ergohandover.ergonomics.score_postures`, running only the
     scorers that give them: a search that ranks by one score skips the others' work (REBA and
     RULA are two thirds of the time when only the paper's score is wanted)."""
-    families = {name.split("_")[0] for name in names}
-    unknown = families - SCORERS.keys()
-    if unknown:
-        raise ConfigError(f"score {sorted(unknown)[0]!r} is not allowed (use a column of "
-                          "score_postures)")
     found = {}
-    for family in sorted(families):
+    for family in sorted({name.split("_")[0] for name in names} & SCORERS.keys()):
         found |= SCORERS[family](posture)
+    for name in names:
+        if name not in found:
+            raise ConfigError(f"score = {name!r} is not allowed (use a column of "
+                              "score_postures)")
     return {name: found[name] for name in names}
 
 
