@@ -63,10 +63,10 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 152, "baselines": 284, "ablations": 81,
-                          "participants": 73, "population": 541, "sensitivity": 153,
-                          "validation": 6, "robustness": 408, "stance": 25, "personalise": 683,
-                          "figures": 37},
+ESTIMATE_S = {"default": {"landscape": 128, "baselines": 180, "ablations": 58,
+                          "participants": 55, "population": 397, "sensitivity": 129,
+                          "validation": 4, "robustness": 316, "stance": 23, "personalise": 431,
+                          "figures": 32},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}

@@ -225,9 +225,9 @@ class PersonaliseConfig:
     searchers: tuple[str, ...] = setting(tuple(s for s in PERSONALISE_SEARCHERS if s != "bo"),
                                          choices=PERSONALISE_SEARCHERS)
     budgets: tuple[int, ...] = setting((10, 25, 50, 100, 250, 1000), lo=1)
-    # Bayesian optimisation's proposals cost ~0.2 s each at 25 trials and ~1 s at 100 on one
-    # core (the GP's refit and acquisition search), TPE's ~10 ms at 250-1,000, SAC's ~5 ms (a
-    # gradient step per env step); the default study caps them so that it stays within 45
+    # Bayesian optimisation's proposals cost ~0.1 s each up to 25 trials and ~0.26 s at 100 on
+    # one core (the GP's refit and acquisition search), TPE's ~4-9 ms at 250-1,000, SAC's ~2 ms
+    # (a gradient step per env step); the default study caps them so that it stays within 45
     # minutes on 2 cores, and configs/personalise_full.json runs them further (and Bayesian
     # optimisation without the prior).
     budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
