@@ -54,6 +54,8 @@ def reba(p: dict, s) -> dict:
     knee = max(p["left_knee_flexion"], p["right_knee_flexion"])
     legs = (1 if p["bilateral_support"] == 1 else 2) + (
         0 if within(knee, 30) else 1 if within(knee, 60) else 2)
+    if p["seated"] == 1:  # sitting: 1, the knee adjustment is not for sitting
+        legs = 1
 
     kg = p["load_kg"]
     load = (0 if kg < 5 else 1 if kg <= 10 else 2) + int(p["shock"] == 1)
@@ -101,16 +103,20 @@ def rula(p: dict, s) -> dict:
     def exceeds(x, limit):
         return int(not within(abs(x), limit))
 
-    kg = p["load_kg"]
-    if p["shock"] == 1:
-        force = 3
-    elif kg > 10:
-        force = 2 + int(p["muscle_use"])
-    elif kg >= 2:
-        force = 1 + int(p["muscle_use"])
-    else:
-        force = 0
+    def force_of(kg, muscle_use):
+        if p["shock"] == 1:
+            return 3
+        if kg > 10:
+            return 2 + int(muscle_use)
+        if kg >= 2:
+            return 1 + int(muscle_use)
+        return 0
+
+    force = force_of(p["load_kg"], p["muscle_use"])
     extra = int(p["muscle_use"]) + force
+    body_muscle = p.get("neck_trunk_legs_muscle_use", p["muscle_use"])
+    body_force = force_of(p.get("neck_trunk_legs_load_kg", p["load_kg"]), body_muscle)
+    body_extra = int(body_muscle) + body_force
     n = p["neck_flexion"]
     neck = 4 if not within(-n, tol) else 1 if within(n, 10) else 2 if within(n, 20) else 3
     neck += exceeds(p["neck_twist"], s.twist_from_deg)
@@ -126,8 +132,9 @@ def rula(p: dict, s) -> dict:
     trunk += exceeds(p["trunk_side_bend"], s.side_bend_from_deg)
     legs = 1 if p["bilateral_support"] == 1 else 2
     table_b = _get(T["rula_b"], neck, trunk, legs)
-    out = {"rula_force": force, "rula_neck": neck, "rula_trunk": trunk, "rula_legs": legs,
-           "rula_table_b": table_b, "rula_score_d": table_b + extra}
+    out = {"rula_arm_force": force, "rula_neck_trunk_legs_force": body_force, "rula_neck": neck,
+           "rula_trunk": trunk, "rula_legs": legs, "rula_table_b": table_b,
+           "rula_score_d": table_b + body_extra}
     for side in ("left", "right"):
         a = {k[len(side) + 1:]: v for k, v in p.items() if k.startswith(side + "_")}
         u = a["upper_arm_flexion"]
@@ -149,7 +156,7 @@ def rula(p: dict, s) -> dict:
         tw = 1 + exceeds(a["wrist_twist"], s.wrist_twist_from_deg)
         table_a = T["rula_a"][ua - 1][la - 1][(wr - 1) * 2 + (tw - 1)]
         score_c = table_a + extra
-        grand = _get(T["rula_c"], min(score_c, 8), min(table_b + extra, 7))
+        grand = _get(T["rula_c"], min(score_c, 8), min(table_b + body_extra, 7))
         out.update({f"rula_{side}_upper_arm": ua, f"rula_{side}_lower_arm": la,
                     f"rula_{side}_wrist": wr, f"rula_{side}_wrist_twist": tw,
                     f"rula_{side}_table_a": table_a, f"rula_{side}_score_c": score_c,

@@ -119,7 +119,7 @@ def test_band_edge(item, columns, edge, below, above):
 ])
 def test_load_bands_are_read_literally(kg, shock, reba_load, rula_force):
     scores = score_postures(Posture(neutral_columns(load_kg=kg, shock=shock)))
-    assert (scores["reba_load"][0], scores["rula_force"][0]) == (reba_load, rula_force)
+    assert (scores["reba_load"][0], scores["rula_arm_force"][0]) == (reba_load, rula_force)
 
 
 @pytest.mark.parametrize(("kg", "muscle_use", "rula_force"), [
@@ -130,15 +130,39 @@ def test_rula_force_for_static_or_repeated_and_intermittent_loads(kg, muscle_use
     """McAtamney & Corlett 1993: >= 10 kg intermittent is 2; 3 only when static or repeated
     (or with shock)."""
     scores = score_postures(Posture(neutral_columns(load_kg=kg, muscle_use=muscle_use)))
-    assert scores["rula_force"][0] == rula_force
+    assert scores["rula_arm_force"][0] == rula_force
+    assert scores["rula_neck_trunk_legs_force"][0] == rula_force  # absent: the arm group's
 
 
 def test_rula_static_load_scores_two():
     scores = score_postures(Posture(neutral_columns(load_kg=5.0, muscle_use=1)))
-    assert scores["rula_force"][0] == 2
+    assert scores["rula_arm_force"][0] == 2
     # Muscle use and force both add to Score C and Score D.
     assert scores["rula_left_score_c"][0] == scores["rula_left_table_a"][0] + 3
     assert scores["rula_score_d"][0] == scores["rula_table_b"][0] + 3
+
+
+def test_rula_groups_take_their_own_muscle_use_and_load():
+    """The worksheet scores muscle use and force/load once for the arm and wrist (Score C) and
+    once for neck, trunk and legs (Score D)."""
+    arms_only = score_postures(Posture(neutral_columns(
+        load_kg=5.0, muscle_use=1, neck_trunk_legs_muscle_use=0, neck_trunk_legs_load_kg=0.0)))
+    assert arms_only["rula_arm_force"][0] == 2 and arms_only["rula_neck_trunk_legs_force"][0] == 0
+    assert arms_only["rula_left_score_c"][0] == arms_only["rula_left_table_a"][0] + 3
+    assert arms_only["rula_score_d"][0] == arms_only["rula_table_b"][0]
+    body_only = score_postures(Posture(neutral_columns(neck_trunk_legs_muscle_use=1,
+                                                       neck_trunk_legs_load_kg=12.0)))
+    assert body_only["rula_neck_trunk_legs_force"][0] == 3
+    assert body_only["rula_score_d"][0] == body_only["rula_table_b"][0] + 4
+    assert body_only["rula_left_score_c"][0] == body_only["rula_left_table_a"][0]
+
+
+@pytest.mark.parametrize(("knee", "seated", "legs"), [
+    (10.0, 0, 1), (45.0, 0, 2), (90.0, 0, 3), (10.0, 1, 1), (45.0, 1, 1), (90.0, 1, 1)])
+def test_reba_legs_when_sitting_score_one_without_the_knee_adjustment(knee, seated, legs):
+    scores = score_postures(Posture(neutral_columns(
+        left_knee_flexion=knee, right_knee_flexion=knee, seated=seated)))
+    assert scores["reba_legs"][0] == legs
 
 
 def test_action_levels_cover_every_score():

@@ -250,10 +250,11 @@ def scored(table: pd.DataFrame, tmp_path: Path, objective: str) -> list[float]:
 def test_a_posture_row_is_scored_as_the_score_command_scores_it(monkeypatch, capsys, tmp_path):
     example = pd.read_csv(EXAMPLE, dtype=str)
     required = example[list(REQUIRED_COLUMNS)].iloc[[0]]  # 24 values, the contract's order
-    full = example.iloc[[1]].copy()  # 35 values: every column, absent ones at their default
+    full = example.iloc[[1]].copy()  # 38 values: every column, absent ones at their default
     for name in POSTURE_COLUMNS:
         if name not in full:
-            full[name] = f"{COLUMN_BY_NAME[name].default:g}"
+            column = COLUMN_BY_NAME[name]
+            full[name] = full[column.same_as] if column.same_as else f"{column.default:g}"
     full = full[list(POSTURE_COLUMNS)]
     header, row = EXAMPLE.read_text().splitlines()[:4:3]  # the file's header, third row
     answers = "\n".join([",".join(required.iloc[0]), ",".join(full.iloc[0]), header, row, ""])

@@ -22,7 +22,6 @@ from ergohandover.robustness.posture_error import (
     expected_scores,
     monte_carlo,
     perturbed,
-    scores_of,
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
 from ergohandover.study.config import RobustnessConfig
@@ -112,13 +111,13 @@ def test_scoring_only_the_scores_asked_for_gives_score_postures_columns():
     posture = Posture.random(2000, np.random.default_rng(3))
     every = score_postures(posture)
     for names in (("paper_postural",), ("rula", "reba_ab"), tuple(every)):
-        only = scores_of(posture, names)
+        only = score_postures(posture, names=names)
         assert list(only) == list(names)
         for name in names:
             np.testing.assert_array_equal(only[name], every[name])
     for unknown in ("owas_back", "reba_neck_twist"):
         with pytest.raises(ConfigError, match=f"score = '{unknown}' is not allowed"):
-            scores_of(posture, ("reba", unknown))
+            score_postures(posture, names=("reba", unknown))
 
 
 def test_a_margin_is_the_smallest_move_that_changes_the_score():

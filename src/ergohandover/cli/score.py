@@ -18,11 +18,13 @@ from .values import output_file
 
 def optional_columns() -> str:
     """The optional Posture columns grouped by the value they take when absent."""
-    by_default: dict[float, list[str]] = {}
+    by_default: dict[str, list[str]] = {}
     for column in COLUMNS:
         if column.default is not None:
-            by_default.setdefault(column.default, []).append(column.name)
-    return "; ".join(f"{', '.join(names)} {value:g}" for value, names in by_default.items())
+            by_default.setdefault(f"{column.default:g}", []).append(column.name)
+        elif column.same_as is not None:
+            by_default.setdefault(f"as {column.same_as}", []).append(column.name)
+    return "; ".join(f"{', '.join(names)} {value}" for value, names in by_default.items())
 
 
 DESCRIPTION = f"""\

@@ -41,14 +41,9 @@ def arm(p: Posture, side: str) -> np.ndarray:
     return upper + lower
 
 
-def paper_postural(p: Posture) -> dict[str, np.ndarray]:
-    """The paper's postural score of N postures.
-
-    Returns:
-        Named (N,) int8 arrays: ``paper_neck``, ``paper_trunk``, ``paper_legs``,
-        ``paper_hands_above_neck``, ``paper_left_arm``, ``paper_right_arm`` and their total
-        ``paper_postural`` (neck + trunk + legs + hands + the larger arm).
-    """
+def items(p: Posture) -> dict[str, np.ndarray]:
+    """The paper's item scores of N postures: ``paper_neck``, ``paper_trunk``, ``paper_legs``,
+    ``paper_hands_above_neck``, ``paper_left_arm`` and ``paper_right_arm``."""
     neck_mag = np.maximum(np.maximum(np.abs(p["neck_flexion"]), np.abs(p["neck_side_bend"])),
                           np.abs(p["neck_twist"]))
     trunk_flexion = p["trunk_flexion"]
@@ -62,7 +57,24 @@ def paper_postural(p: Posture) -> dict[str, np.ndarray]:
     }
     for side in SIDES:
         out[f"paper_{side}_arm"] = arm(p, side)
-    out["paper_postural"] = (out["paper_neck"] + out["paper_trunk"] + out["paper_legs"]
-                             + out["paper_hands_above_neck"]
-                             + np.maximum(out["paper_left_arm"], out["paper_right_arm"]))
     return out
+
+
+def paper_from_items(item: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The items and their total ``paper_postural`` (neck + trunk + legs + hands + the larger
+    arm)."""
+    return {**item, "paper_postural": (
+        item["paper_neck"] + item["paper_trunk"] + item["paper_legs"]
+        + item["paper_hands_above_neck"]
+        + np.maximum(item["paper_left_arm"], item["paper_right_arm"]))}
+
+
+def paper_postural(p: Posture) -> dict[str, np.ndarray]:
+    """The paper's postural score of N postures.
+
+    Returns:
+        Named (N,) int8 arrays: ``paper_neck``, ``paper_trunk``, ``paper_legs``,
+        ``paper_hands_above_neck``, ``paper_left_arm``, ``paper_right_arm`` and their total
+        ``paper_postural`` (neck + trunk + legs + hands + the larger arm).
+    """
+    return paper_from_items(items(p))

@@ -26,12 +26,16 @@ class Column:
         name: column name in the Posture CSV.
         kind: ``angle`` (finite, within ±180°), ``flag`` (0 or 1), ``level`` (integer 0–3) or
             ``load`` (finite, ≥ 0 kg).
-        default: value used when the column is absent; ``None`` makes the column required.
+        default: value used when the column is absent; ``None`` makes the column required
+            unless ``same_as`` is given.
+        same_as: the column whose values an absent column takes (a worksheet item that is
+            usually the same for two body groups).
     """
 
     name: str
     kind: str
     default: float | None = None
+    same_as: str | None = None
 
     @property
     def allowed(self) -> str:
@@ -61,6 +65,9 @@ COLUMNS: tuple[Column, ...] = (
         "left_knee_flexion", "right_knee_flexion",
     )),
     Column("bilateral_support", "flag", 1),
+    # REBA's legs when sitting: 1, with no knee adjustment (Hignett & McAtamney 2000).
+    Column("seated", "flag", 0),
+    # The load and RULA's muscle use of the arm-and-wrist group (RULA steps 8-9) and REBA's load.
     Column("load_kg", "load", 0),
     Column("shock", "flag", 0),
     Column("coupling", "level", 0),
@@ -68,6 +75,9 @@ COLUMNS: tuple[Column, ...] = (
     Column("hands_above_neck", "flag", 0),
     # RULA's muscle-use input (static > 1 min or repeated > 4x/min); not in REBA.
     Column("muscle_use", "flag", 0),
+    # RULA's neck-trunk-leg group may differ (its steps 13-14); absent, it is the arm group's.
+    Column("neck_trunk_legs_muscle_use", "flag", same_as="muscle_use"),
+    Column("neck_trunk_legs_load_kg", "load", same_as="load_kg"),
     *(Column(f"{side}_{n}", "angle") for side in SIDES for n in ARM_ANGLES),
     *(Column(f"{side}_arm_supported", "flag", 0) for side in SIDES),
     # RULA's lower-arm +1: the hand works across the body's midline or out to the side.
@@ -75,7 +85,8 @@ COLUMNS: tuple[Column, ...] = (
 )
 COLUMN_BY_NAME: dict[str, Column] = {c.name: c for c in COLUMNS}
 POSTURE_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS)
-REQUIRED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.default is None)
+REQUIRED_COLUMNS: tuple[str, ...] = tuple(
+    c.name for c in COLUMNS if c.default is None and c.same_as is None)
 
 
 class PostureError(ErgohandoverError, ValueError):
@@ -112,7 +123,8 @@ class Posture(Mapping[str, np.ndarray]):
     """N postures as a read-only mapping from column name to a float64 array of shape (N,).
 
     Every column of :data:`POSTURE_COLUMNS` is present (absent optional ones are filled with
-    their defaults); each value has been checked against its column's rule.
+    their defaults, or their ``same_as`` column's values); each value has been checked against
+    its column's rule.
     """
 
     def __init__(self, columns: Mapping[str, np.typing.ArrayLike]):
@@ -139,6 +151,8 @@ class Posture(Mapping[str, np.ndarray]):
                         f"(expected {col.allowed})",
                         row=bad + 1, column=col.name, value=shown,
                     )
+            elif col.same_as is not None:
+                values = data[col.same_as].copy()
             else:
                 values = np.full(n, float(col.default))
             values.setflags(write=False)

@@ -78,11 +78,12 @@ def neck(p: Posture, s: ScoringSettings) -> np.ndarray:
 
 
 def legs(p: Posture, s: ScoringSettings) -> np.ndarray:
-    """Legs 1-4: bilateral support 1, else 2; +1 knee flexion 30-60°, +2 beyond 60° (the more
-    flexed knee)."""
+    """Legs 1-4: bilateral support or sitting 1, else 2; +1 knee flexion 30-60°, +2 beyond 60°
+    (the more flexed knee), not when sitting."""
     knee = np.maximum(p["left_knee_flexion"], p["right_knee_flexion"])
     support = (2 - p["bilateral_support"]).astype(SCORE_DTYPE)
-    return support + banded(knee, (30.0, 60.0), (0, 1, 2), s.severe_on_edge)
+    standing = banded(knee, (30.0, 60.0), (0, 1, 2), s.severe_on_edge) + support
+    return np.where(p["seated"] == 1, SCORE_DTYPE(1), standing).astype(SCORE_DTYPE)
 
 
 def load(p: Posture) -> np.ndarray:
@@ -127,34 +128,52 @@ def action_level(reba_score: np.ndarray) -> np.ndarray:
     return banded(reba_score, ACTION_LEVEL_EDGES, (0, 1, 2, 3, 4), severe_on_edge=False)
 
 
-def reba(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
-    """Every REBA score of N postures.
+ITEM_RANGES = {
+    "reba_trunk": (1, 5), "reba_neck": (1, 3), "reba_legs": (1, 4), "reba_load": (0, 3),
+    **{f"reba_{side}_{item}": limits for side in SIDES for item, limits in (
+        ("upper_arm", (1, 6)), ("lower_arm", (1, 2)), ("wrist", (1, 3)))},
+    "reba_coupling": (0, 3), "reba_activity": (0, 3),
+}
+"""Each worksheet item and the scores it can take: what :func:`reba_from_items` reads."""
+
+
+def items(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
+    """The worksheet's item scores of N postures (:data:`ITEM_RANGES`' names)."""
+    out = {"reba_trunk": trunk(p, s), "reba_neck": neck(p, s), "reba_legs": legs(p, s),
+           "reba_load": load(p)}
+    for side in SIDES:
+        out[f"reba_{side}_upper_arm"] = upper_arm(p, side, s)
+        out[f"reba_{side}_lower_arm"] = lower_arm(p, side, s)
+        out[f"reba_{side}_wrist"] = wrist(p, side, s)
+    out["reba_coupling"] = p["coupling"].astype(SCORE_DTYPE)
+    out["reba_activity"] = p["activity"].astype(SCORE_DTYPE)
+    return out
+
+
+def reba_from_items(item: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Tables A, B and C and the final score from the worksheet's item scores.
+
+    Args:
+        item: (N,) integer arrays named as :data:`ITEM_RANGES`, each within its range.
 
     Returns:
-        Named (N,) arrays: items ``reba_trunk``, ``reba_neck``, ``reba_legs``, ``reba_load``,
-        per arm ``reba_{side}_upper_arm``/``_lower_arm``/``_wrist``/``_table_b``; then
-        ``reba_table_a``, ``reba_table_b`` (worse arm), ``reba_score_a``, ``reba_score_b``,
-        ``reba_score_c``, ``reba``, ``reba_action_level`` and ``reba_ab`` (Table A + Table B,
-        the sum before Table C flattens it).
+        Named (N,) int8 arrays: the items (without coupling and activity), each arm's
+        ``reba_{side}_table_b``, then ``reba_table_a``, ``reba_table_b`` (worse arm),
+        ``reba_score_a``, ``reba_score_b``, ``reba_score_c``, ``reba``, ``reba_action_level``
+        and ``reba_ab`` (Table A + Table B, the sum before Table C flattens it).
     """
-    out = {
-        "reba_trunk": trunk(p, s),
-        "reba_neck": neck(p, s),
-        "reba_legs": legs(p, s),
-        "reba_load": load(p),
-    }
+    out = {name: item[name] for name in ("reba_trunk", "reba_neck", "reba_legs", "reba_load")}
     for side in SIDES:
-        ua, la, wr = upper_arm(p, side, s), lower_arm(p, side, s), wrist(p, side, s)
-        out[f"reba_{side}_upper_arm"] = ua
-        out[f"reba_{side}_lower_arm"] = la
-        out[f"reba_{side}_wrist"] = wr
-        out[f"reba_{side}_table_b"] = lookup(TABLE_B, ua, la, wr)
+        arm = [item[f"reba_{side}_{name}"] for name in ("upper_arm", "lower_arm", "wrist")]
+        out.update(zip((f"reba_{side}_upper_arm", f"reba_{side}_lower_arm",
+                        f"reba_{side}_wrist"), arm, strict=True))
+        out[f"reba_{side}_table_b"] = lookup(TABLE_B, *arm)
     table_a = lookup(TABLE_A, out["reba_trunk"], out["reba_neck"], out["reba_legs"])
     table_b = np.maximum(out["reba_left_table_b"], out["reba_right_table_b"])
     score_a = table_a + out["reba_load"]
-    score_b = table_b + p["coupling"].astype(SCORE_DTYPE)
+    score_b = table_b + item["reba_coupling"]
     score_c = lookup(TABLE_C, score_a, score_b)
-    final = score_c + p["activity"].astype(SCORE_DTYPE)
+    final = score_c + item["reba_activity"]
     out.update(
         reba_table_a=table_a,
         reba_table_b=table_b,
@@ -166,3 +185,16 @@ def reba(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
         reba_ab=table_a + table_b,
     )
     return out
+
+
+def reba(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
+    """Every REBA score of N postures.
+
+    Returns:
+        Named (N,) int8 arrays: items ``reba_trunk``, ``reba_neck``, ``reba_legs``, ``reba_load``,
+        per arm ``reba_{side}_upper_arm``/``_lower_arm``/``_wrist``/``_table_b``; then
+        ``reba_table_a``, ``reba_table_b`` (worse arm), ``reba_score_a``, ``reba_score_b``,
+        ``reba_score_c``, ``reba``, ``reba_action_level`` and ``reba_ab`` (Table A + Table B,
+        the sum before Table C flattens it).
+    """
+    return reba_from_items(items(p, s))

@@ -5,10 +5,13 @@ Table A circulates in two versions that differ in 31 of 144 cells; this is the m
 (Score C per side); the grand score ``rula`` is the worse side's. Thresholds that the worksheet
 leaves open come from :class:`~ergohandover.ergonomics.settings.ScoringSettings`.
 
-Muscle use (+1, static > 1 min or repeated > 4x/min) is the ``muscle_use`` column. Force/load is
-derived from ``load_kg``, ``shock`` and ``muscle_use`` (static or repeated when it is 1, else
-intermittent), as McAtamney & Corlett (1993) list it: < 2 kg 0; 2-10 kg intermittent 1; 2-10 kg
-static or repeated, or > 10 kg intermittent 2; > 10 kg static or repeated, or shock 3.
+Muscle use (+1, static > 1 min or repeated > 4x/min) and force/load are given per group, as the
+worksheet scores them: the arm-and-wrist group's from ``muscle_use`` and ``load_kg``, the
+neck-trunk-leg group's from ``neck_trunk_legs_muscle_use`` and ``neck_trunk_legs_load_kg`` (the
+arm group's when absent). Force/load is derived from the load, ``shock`` and the group's muscle
+use (static or repeated when it is 1, else intermittent), as McAtamney & Corlett (1993) list it:
+< 2 kg 0; 2-10 kg intermittent 1; 2-10 kg static or repeated, or > 10 kg intermittent 2; > 10 kg
+static or repeated, or shock 3.
 """
 
 from __future__ import annotations
@@ -104,13 +107,13 @@ def trunk(p: Posture, s: ScoringSettings) -> np.ndarray:
     return base + _twisted_and_bent(p["trunk_twist"], p["trunk_side_bend"], s)
 
 
-def force(p: Posture) -> np.ndarray:
-    """Force/load 0-3 from load, shock and muscle use (kg bands read literally: 10 kg is in the
-    2-10 kg band). Static or repeated (``muscle_use`` 1) adds one to the intermittent score."""
-    kg = p["load_kg"]
+def force(kg: np.ndarray, muscle_use: np.ndarray, shock: np.ndarray) -> np.ndarray:
+    """Force/load 0-3 of one group from its load [kg], muscle use and shock (kg bands read
+    literally: 10 kg is in the 2-10 kg band). Static or repeated (muscle use 1) adds one to the
+    intermittent score."""
     intermittent = np.select([kg > 10.0, kg >= 2.0], [2.0, 1.0], 0.0)
-    score = np.where(kg >= 2.0, intermittent + p["muscle_use"], 0.0)
-    score = np.where(p["shock"] == 1, 3.0, score)
+    score = np.where(kg >= 2.0, intermittent + muscle_use, 0.0)
+    score = np.where(shock == 1, 3.0, score)
     return score.astype(SCORE_DTYPE)
 
 
@@ -119,34 +122,68 @@ def action_level(grand: np.ndarray) -> np.ndarray:
     return banded(grand, ACTION_LEVEL_EDGES, (1, 2, 3, 4), severe_on_edge=False)
 
 
-def rula(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
-    """Every RULA score of N postures.
+ITEM_RANGES = {
+    **{f"rula_{side}_{item}": limits for side in SIDES for item, limits in (
+        ("upper_arm", (1, 6)), ("lower_arm", (1, 3)), ("wrist", (1, 4)),
+        ("wrist_twist", (1, 2)))},
+    "rula_arm_muscle_use": (0, 1), "rula_arm_force": (0, 3),
+    "rula_neck": (1, 6), "rula_trunk": (1, 6), "rula_legs": (1, 2),
+    "rula_neck_trunk_legs_muscle_use": (0, 1), "rula_neck_trunk_legs_force": (0, 3),
+}
+"""Each worksheet item and the scores it can take: what :func:`rula_from_items` reads
+(``rula_arm_force`` and ``rula_arm_muscle_use`` are the arm-and-wrist group's)."""
+
+
+def items(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
+    """The worksheet's item scores of N postures (:data:`ITEM_RANGES`' names)."""
+    out = {}
+    for side in SIDES:
+        out[f"rula_{side}_upper_arm"] = upper_arm(p, side, s)
+        out[f"rula_{side}_lower_arm"] = lower_arm(p, side, s)
+        out[f"rula_{side}_wrist"] = wrist(p, side, s)
+        out[f"rula_{side}_wrist_twist"] = wrist_twist(p, side, s)
+    body_muscle = p["neck_trunk_legs_muscle_use"]
+    out.update(
+        rula_arm_muscle_use=p["muscle_use"].astype(SCORE_DTYPE),
+        rula_arm_force=force(p["load_kg"], p["muscle_use"], p["shock"]),
+        rula_neck=neck(p, s), rula_trunk=trunk(p, s),
+        rula_legs=(2 - p["bilateral_support"]).astype(SCORE_DTYPE),
+        rula_neck_trunk_legs_muscle_use=body_muscle.astype(SCORE_DTYPE),
+        rula_neck_trunk_legs_force=force(p["neck_trunk_legs_load_kg"], body_muscle, p["shock"]),
+    )
+    return out
+
+
+def rula_from_items(item: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Tables A, B and C and the grand score from the worksheet's item scores.
+
+    Args:
+        item: (N,) integer arrays named as :data:`ITEM_RANGES`, each within its range.
 
     Returns:
-        Named (N,) int8 arrays: per arm ``rula_{side}_upper_arm``/``_lower_arm``/``_wrist``/
-        ``_wrist_twist``/``_table_a``/``_score_c``/``rula_{side}`` (that side's grand score);
-        ``rula_neck``, ``rula_trunk``, ``rula_legs``, ``rula_force``, ``rula_table_b``,
-        ``rula_score_d``; ``rula`` (the worse side) and ``rula_action_level``.
+        Named (N,) int8 arrays: ``rula_arm_force``, ``rula_neck_trunk_legs_force``, ``rula_neck``,
+        ``rula_trunk``, ``rula_legs``, ``rula_table_b``, ``rula_score_d``; per arm
+        ``rula_{side}_upper_arm``/``_lower_arm``/``_wrist``/``_wrist_twist``/``_table_a``/
+        ``_score_c``/``rula_{side}`` (that side's grand score); ``rula`` (the worse side) and
+        ``rula_action_level``.
     """
-    muscle = p["muscle_use"].astype(SCORE_DTYPE)
-    out = {"rula_force": force(p)}
-    extra = muscle + out["rula_force"]
-    out["rula_neck"] = neck(p, s)
-    out["rula_trunk"] = trunk(p, s)
-    out["rula_legs"] = (2 - p["bilateral_support"]).astype(SCORE_DTYPE)
+    arm_extra = item["rula_arm_muscle_use"] + item["rula_arm_force"]
+    body_extra = item["rula_neck_trunk_legs_muscle_use"] + item["rula_neck_trunk_legs_force"]
+    out = {"rula_arm_force": item["rula_arm_force"],
+           "rula_neck_trunk_legs_force": item["rula_neck_trunk_legs_force"]}
+    for name in ("rula_neck", "rula_trunk", "rula_legs"):
+        out[name] = item[name]
     out["rula_table_b"] = lookup(TABLE_B, out["rula_neck"], out["rula_trunk"], out["rula_legs"])
-    out["rula_score_d"] = out["rula_table_b"] + extra
+    out["rula_score_d"] = out["rula_table_b"] + body_extra
     capped_d = np.minimum(out["rula_score_d"], 7)
     for side in SIDES:
-        ua, la = upper_arm(p, side, s), lower_arm(p, side, s)
-        wr, tw = wrist(p, side, s), wrist_twist(p, side, s)
-        table_a = lookup(TABLE_A, ua, la, wr, tw)
-        score_c = table_a + extra
+        arm = [item[f"rula_{side}_{name}"]
+               for name in ("upper_arm", "lower_arm", "wrist", "wrist_twist")]
+        table_a = lookup(TABLE_A, *arm)
+        score_c = table_a + arm_extra
+        out.update(zip((f"rula_{side}_upper_arm", f"rula_{side}_lower_arm", f"rula_{side}_wrist",
+                        f"rula_{side}_wrist_twist"), arm, strict=True))
         out.update({
-            f"rula_{side}_upper_arm": ua,
-            f"rula_{side}_lower_arm": la,
-            f"rula_{side}_wrist": wr,
-            f"rula_{side}_wrist_twist": tw,
             f"rula_{side}_table_a": table_a,
             f"rula_{side}_score_c": score_c,
             f"rula_{side}": lookup(TABLE_C, np.minimum(score_c, 8), capped_d),
@@ -154,3 +191,8 @@ def rula(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
     out["rula"] = np.maximum(out["rula_left"], out["rula_right"])
     out["rula_action_level"] = action_level(out["rula"])
     return out
+
+
+def rula(p: Posture, s: ScoringSettings) -> dict[str, np.ndarray]:
+    """Every RULA score of N postures (:func:`rula_from_items` of the postures' items)."""
+    return rula_from_items(items(p, s))

@@ -9,7 +9,7 @@ So an answer is one line, one of:
 - ``x`` (or ``infeasible``): the worker could not take the box there;
 - a Posture CSV row (comma-separated, the columns of docs/architecture.md, "File contracts"),
   scored with the package's scorers exactly as ``ergohandover score`` scores that row. Its
-  values are in the contract's order (the 24 required columns, or all 35) unless a header line
+  values are in the contract's order (the 24 required columns, or all 38) unless a header line
   (the column names, as a posture file's first line) was given before: then in that order.
 
 Anything else is refused with one line saying what was typed and what is allowed, so that the

@@ -13,8 +13,8 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from ..ergonomics import Posture
-from .posture_error import ANGLE_COLUMNS, SCORES, scores_of
+from ..ergonomics import Posture, score_postures
+from .posture_error import ANGLE_COLUMNS, SCORES
 
 STEP_DEG = 0.25
 """The resolution of a margin [deg]."""
@@ -41,7 +41,7 @@ def margins(posture: Posture, scores: Sequence[str] = SCORES,
     moves = _moves()
     block = len(columns) * len(moves)  # rows per posture
     per_chunk = max(1, CHUNK_ROWS // block)
-    nominal = scores_of(posture, scores)
+    nominal = score_postures(posture, names=scores)
     out = {s: np.empty((posture.n, len(columns))) for s in scores}
     for start in range(0, posture.n, per_chunk):
         index = np.arange(start, min(start + per_chunk, posture.n))
@@ -53,7 +53,7 @@ def margins(posture: Posture, scores: Sequence[str] = SCORES,
                 shift[list(columns).index(name)] = moves
                 repeated = np.clip(repeated + np.tile(shift.ravel(), len(index)), -180, 180)
             rows[name] = repeated
-        moved = scores_of(Posture(rows), scores)
+        moved = score_postures(Posture(rows), names=scores)
         for s in scores:
             changed = (moved[s].reshape(len(index), len(columns), len(moves))
                        != nominal[s][index, None, None])

@@ -10,7 +10,7 @@ perturbed angle is clipped to the Posture table's ±180°.
 
 Everything is vectorised: ``draws`` perturbed copies of every posture are scored in chunks of
 :data:`CHUNK_POSTURES` rows by :func:`~ergohandover.ergonomics.score_postures` (by
-:func:`scores_of`, only the scorers needed, where one score ranks locations).
+ its ``names``, only the scorers needed, where one score ranks locations).
 """
 
 from __future__ import annotations
@@ -21,11 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..ergonomics import OBJECTIVES, Posture, ScoringSettings, score_postures
-from ..ergonomics.paper_score import paper_postural
+from ..ergonomics import OBJECTIVES, Posture, score_postures
 from ..ergonomics.posture import COLUMNS, SIDES
-from ..ergonomics.reba import reba
-from ..ergonomics.rula import rula
 from ..errors import ConfigError
 
 ANGLE_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.kind == "angle")
@@ -38,26 +35,6 @@ CHUNK_POSTURES = 262_144
 """Perturbed postures scored at once (about 0.2 GB of columns)."""
 MAIN = {*OBJECTIVES, "reba_table_a", "reba_table_b", "reba_score_a", "reba_score_b",
         "reba_score_c", "reba_action_level"}
-
-
-SCORERS = {"paper": paper_postural, "reba": lambda p: reba(p, ScoringSettings()),
-           "rula": lambda p: rula(p, ScoringSettings())}
-"""Each scorer of :func:`~ergohandover.ergonomics.score_postures` (default settings) by the
-prefix of the columns it gives."""
-
-
-def scores_of(posture: Posture, names: Sequence[str]) -> dict[str, np.ndarray]:
-    """The named columns of :func:`~ergohandover.ergonomics.score_postures`, running only the
-    scorers that give them: a search that ranks by one score skips the others' work (REBA and
-    RULA are two thirds of the time when only the paper's score is wanted)."""
-    found = {}
-    for family in sorted({name.split("_")[0] for name in names} & SCORERS.keys()):
-        found |= SCORERS[family](posture)
-    for name in names:
-        if name not in found:
-            raise ConfigError(f"score = {name!r} is not allowed (use a column of "
-                              "score_postures)")
-    return {name: found[name] for name in names}
 
 
 def _paired() -> dict[str, str]:
@@ -216,6 +193,6 @@ def expected_scores(posture: Posture, model: ErrorModel, draws: int, seed: int,
         columns = {name: _measured(values, errors[name], draws, tile=True) if name in errors
                    else np.repeat(values, draws)
                    for name, values in posture.take(index).items()}
-        measured = scores_of(Posture(columns), (score,))[score]
+        measured = score_postures(Posture(columns), names=(score,))[score]
         out[index] = measured.reshape(len(index), draws).mean(axis=1)
     return out

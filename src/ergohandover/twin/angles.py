@@ -61,10 +61,12 @@ def posture_columns(st: KinematicState, task: TaskSpec,
     cols["left_knee_flexion"] = cols["right_knee_flexion"] = joint("knee_flexion")
     neck_height = st.position("neck_flexion_link")[:, 2]
     grips_z = np.maximum(st.point("left_grip")[:, 2], st.point("right_grip")[:, 2])
+    load = np.full(n, task.box_mass_kg)
     cols.update(
-        bilateral_support=np.ones(n), load_kg=np.full(n, task.box_mass_kg),
+        bilateral_support=np.ones(n), seated=np.zeros(n), load_kg=load,
         shock=np.zeros(n), coupling=np.full(n, float(task.coupling)),
         activity=np.full(n, float(task.activity)), muscle_use=np.zeros(n),
+        neck_trunk_legs_muscle_use=np.zeros(n), neck_trunk_legs_load_kg=load.copy(),
         hands_above_neck=(grips_z > neck_height).astype(float),
     )
     for side, outward in (("left", 1.0), ("right", -1.0)):
