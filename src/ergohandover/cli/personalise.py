@@ -81,6 +81,12 @@ def add_parser(subparsers) -> None:
                          help="with --oracle file: the file of 'TRIAL,ANSWER' lines (it may not "
                          "exist yet); the pending proposal is written to proposal.csv in "
                          "--output")
+    answers.add_argument("--answer-format", default="score", metavar="score|keypoints:FORMAT[:UP]",
+                         help="what an answer of --oracle ask or file is: a score, x or a "
+                         "posture row (default: score); or a frame a posture-capture program "
+                         "measured: FORMAT's joints, x, y, z each in metres (FORMAT: h36m17, "
+                         "coco17, mediapipe33, zed34, smpl24; UP: its up axis, default the "
+                         "format's), scored as 'ergohandover score --keypoints' scores it")
     answers.add_argument("--poll", type=number(0, None, "s", above=True), default=POLL_S,
                          metavar="S", help="with --oracle file: seconds between looks at "
                          f"--answers (default: {POLL_S:g})")
@@ -128,6 +134,17 @@ def check(args: argparse.Namespace) -> None:
     flags = given(args)
     if args.oracle == "file" and args.answers is None:
         raise InputError("--oracle file needs --answers CSV (the file answers are appended to)")
+    if "answer_format" in flags and args.oracle == "twin":
+        raise InputError("--answer-format cannot be used with --oracle twin (only with --oracle "
+                         "ask or file)")
+    if args.answer_format != "score":
+        from ..learning.answers import frame_format
+
+        try:
+            frame_format(args.answer_format, args.objective)
+        except ConfigError as exc:
+            raise InputError(str(exc).replace(f"answer_format = {args.answer_format!r}",
+                                              f"--answer-format {args.answer_format}")) from None
     for dest in ("answers", "poll"):
         if dest in flags and args.oracle != "file":
             raise InputError(f"--{dest} cannot be used with --oracle {args.oracle} (only with "
@@ -252,7 +269,8 @@ def run(args: argparse.Namespace) -> int:
         output = run_folder("personalise")
         state = output / STATE
     session = open_session(args, state, settings, searcher)
-    reader = AnswerReader(args.objective, evaluator.scoring, session.posture_header)
+    reader = AnswerReader(args.objective, evaluator.scoring, session.posture_header,
+                          None if args.answer_format == "score" else args.answer_format)
     oracle = build_oracle(args, grid, evaluator, reader, output)
     introduce(args, evaluator, grid, prior, session)
     resume = "the same command" + (f" with --output {output}" if new_folder else "")

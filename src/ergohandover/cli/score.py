@@ -1,4 +1,5 @@
-"""``ergohandover score``: score a table of postures with REBA, RULA and the paper's score."""
+"""``ergohandover score``: score postures with REBA, RULA and the paper's score, given as angles,
+as captured 3D keypoints, or as a rater's worksheet items."""
 
 from __future__ import annotations
 
@@ -6,14 +7,23 @@ import argparse
 import sys
 import textwrap
 
+import numpy as np
 import pandas as pd
 
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
-from ..ergonomics.posture import COLUMNS
+from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS
 from ..io.atomic import atomic_write_csv
+from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
 from .options import add_dataclass_arguments, dataclass_from_args, run_folder, writable
-from .values import output_file
+from .parser import given
+from .values import BadValue, choice, existing_file, number, output_file, whole
+
+KEYPOINT_FORMATS = ("h36m17", "coco17", "mediapipe33", "zed34", "smpl24", "bvh")
+"""What ``--format`` takes (``ergohandover.capture.FORMATS`` and BVH files)."""
+KEYPOINT_FLAGS = ("format", "up", "units", "frames", "missing", "unseen", "draws", "seed",
+                  "assume", "load_kg")
+"""The flags that only ``--keypoints`` reads."""
 
 
 def optional_columns() -> str:
@@ -29,39 +39,215 @@ def optional_columns() -> str:
 
 DESCRIPTION = f"""\
 Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1993) and the
-paper's additive postural score. Reads a Posture CSV (one posture per row, angles in degrees,
-flexion +; its columns: docs/architecture.md, "File contracts"; an example: docs/report.md,
-"Scoring postures"); writes its columns followed by every score column.
-{textwrap.fill(f"Optional columns default: {optional_columns()}.", 96)}"""
+paper's additive postural score, given one of three ways:
+
+  --input      a Posture CSV: one posture per row, angles in degrees, flexion + (its columns:
+               docs/architecture.md, "File contracts"); writes its columns and every score.
+  --keypoints  3D keypoints of a pose estimator or motion capture (--format; CSV wide or long,
+               NPY/NPZ, MediaPipe JSON, BVH): writes per frame the Posture columns measured
+               from them (empty where the format cannot see a column), the unseen columns, and
+               REBA, RULA and the paper's score, each exact where nothing it depends on is
+               unseen, else the interval over the unseen columns' plausible ranges (with
+               --unseen prior also its distribution). docs/capture.md.
+  --items      a rater's worksheet: REBA's and/or RULA's item scores per row; writes Tables
+               A/B/C and the final scores beside the file's columns, and says which rows'
+               own scores disagree with the tables. docs/report.md, "A rater's worksheet".
+{textwrap.fill(f"Optional Posture columns default: {optional_columns()}.", 96)}"""
+
+
+def assumption(text: str) -> tuple[str, float]:
+    """``COLUMN=VALUE``: a Posture column and a value within its rule."""
+    from ..ergonomics import Posture, PostureError
+
+    name, sep, value = text.partition("=")
+    if not sep or name not in COLUMN_BY_NAME:
+        raise BadValue(text, "expected COLUMN=VALUE with a Posture column (docs/architecture.md, "
+                       "\"File contracts\")")
+    try:
+        number_value = float(value)
+    except ValueError:
+        number_value = float("nan")
+    try:
+        Posture({**{c: np.zeros(1) for c in POSTURE_COLUMNS if COLUMN_BY_NAME[c].default is None
+                    and COLUMN_BY_NAME[c].same_as is None}, name: np.array([number_value])})
+    except PostureError:
+        raise BadValue(text, f"{value!r} is not allowed for {name} (expected "
+                       f"{COLUMN_BY_NAME[name].allowed})") from None
+    return name, number_value
+
+
+def frame_range(text: str) -> tuple[int, int]:
+    """``A:B`` (frames A to B, 1-based, inclusive; either may be left out) or ``N``."""
+    first, sep, last = text.partition(":")
+    try:
+        lo = int(first) if first else 1
+        hi = (int(last) if last else sys.maxsize) if sep else lo
+    except ValueError:
+        raise BadValue(text, "expected A:B, A:, :B or N (frame numbers, 1-based)") from None
+    if lo < 1 or hi < lo:
+        raise BadValue(text, "expected frame numbers >= 1 with A <= B")
+    return lo, hi
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
-        "score", help="score a Posture CSV with REBA, RULA and the paper's score",
+        "score", help="score postures (angles, captured keypoints or worksheet items) with "
+        "REBA, RULA and the paper's score",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--input", required=True, metavar="CSV",
+    inputs = parser.add_mutually_exclusive_group(required=True)
+    inputs.add_argument("--input", metavar="CSV",
                         help="Posture CSV to read, or - for standard input")
+    inputs.add_argument("--keypoints", type=existing_file, metavar="FILE",
+                        help="keypoints to read (.csv, .npy, .npz, .json, .bvh), with --format")
+    inputs.add_argument("--items", metavar="CSV",
+                        help="worksheet item scores to read (REBA's and/or RULA's), or -")
     parser.add_argument("--output", type=output_file, metavar="CSV",
                         help="scores CSV to write (atomically; its folder is created if "
                         "needed), or - for standard output (default: "
                         "runs/score/<timestamp>/scores.csv)")
+    capture = parser.add_argument_group("keypoints (with --keypoints)")
+    capture.add_argument("--format", type=choice(KEYPOINT_FORMATS),
+                         metavar="|".join(KEYPOINT_FORMATS),
+                         help="the keypoints' format (docs/capture.md lists each one's joints "
+                         "and what it measures)")
+    capture.add_argument("--up", type=choice(("x", "-x", "y", "-y", "z", "-z")), metavar="AXIS",
+                         help="the axis that points up in the file (default: the format's: "
+                         "-y for h36m17, coco17, mediapipe33; z for zed34; y for smpl24, bvh)")
+    capture.add_argument("--units", type=choice(("m", "cm", "mm")), default="m",
+                         metavar="m|cm|mm", help="the keypoints' unit (default: m)")
+    capture.add_argument("--frames", type=frame_range, metavar="A:B",
+                         help="score frames A to B only (1-based, inclusive; A:, :B or N)")
+    capture.add_argument("--missing", type=choice(("error", "unseen")), default="error",
+                         metavar="error|unseen", help="a frame with a missing (NaN, invisible) "
+                         "point: refuse the file (default), or score the frame with the "
+                         "columns that point decides as unseen")
+    capture.add_argument("--unseen", type=choice(("interval", "prior")), default="interval",
+                         metavar="interval|prior", help="what an unseen column gives: the "
+                         "interval of each score over its plausible range (default), and with "
+                         "'prior' also each score's distribution with unseen angles uniform "
+                         "over their ranges")
+    capture.add_argument("--draws", type=whole(1, 100_000), default=400, metavar="N",
+                         help="with --unseen prior: values drawn per frame (default: 400)")
+    capture.add_argument("--seed", type=whole(0, None), default=0, metavar="N",
+                         help="with --unseen prior: the seed of the draws (default: 0)")
+    capture.add_argument("--assume", type=assumption, action="append", metavar="COLUMN=VALUE",
+                         help="a Posture column's value for every frame, known from elsewhere "
+                         "(a task factor, or an angle the format cannot see); repeatable")
+    capture.add_argument("--load-kg", type=number(0, 25, "kg"), metavar="KG",
+                         help="the load handled (default: 0 kg), as --assume load_kg=KG")
     add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
                             "open)")
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    flags = given(args)
+    if args.keypoints is None:
+        stray = [f for f in KEYPOINT_FLAGS if f in flags]
+        if stray:
+            raise InputError(f"--{stray[0].replace('_', '-')} cannot be used with "
+                             f"--{'input' if args.input else 'items'} (only with --keypoints)")
+    elif args.format is None:
+        raise InputError("--keypoints needs --format (h36m17, coco17, mediapipe33, zed34, "
+                         "smpl24 or bvh)")
     settings = dataclass_from_args(ScoringSettings, args)
-    name = "standard input" if args.input == "-" else args.input
-    text, posture = read_postures(args.input, what=name)
-    scores = pd.DataFrame(score_postures(posture, settings))
-    passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
-    table = pd.concat([passthrough, scores], axis=1)
     output = args.output or str(run_folder("score") / "scores.csv")
-    if output == "-":
+    target = None if output == "-" else writable(output)
+    if args.keypoints is not None:
+        table, what = keypoint_scores(args, settings)
+    elif args.items is not None:
+        table, what = item_scores(args.items)
+    else:
+        name = "standard input" if args.input == "-" else args.input
+        text, posture = read_postures(args.input, what=name)
+        scores = pd.DataFrame(score_postures(posture, settings))
+        passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
+        table, what = pd.concat([passthrough, scores], axis=1), f"{len(text)} postures"
+    if target is None:
         table.to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table, writable(output))
-        print(f"scored {len(table)} postures -> {output}", file=sys.stderr)
+        atomic_write_csv(table, target)
+        print(f"scored {what} -> {output}", file=sys.stderr)
     return 0
+
+
+def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
+                    ) -> tuple[pd.DataFrame, str]:
+    """The table of ``--keypoints`` and what it holds, every check made before scoring."""
+    from ..capture import capture, capture_scores, keypoint_format
+    from ..capture.checks import check_keypoints
+    from ..capture.readers import read_keypoints
+
+    typed = str(args.keypoints)
+    if args.format == "bvh":
+        from ..capture.bvh import read_bvh
+
+        kp = read_bvh(typed, args.units)
+    else:
+        kp = read_keypoints(typed, keypoint_format(args.format), args.units)
+    up = args.up or kp.fmt.up
+    if args.frames is not None:
+        keep = (kp.frames >= args.frames[0]) & (kp.frames <= args.frames[1])
+        if not keep.any():
+            raise InputError(f"--frames {args.frames[0]}:{args.frames[1]}: {typed} has frames "
+                             f"{kp.frames[0]}-{kp.frames[-1]}")
+        kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
+    missing = check_keypoints(kp, up, args.missing, typed)
+    assume = dict(args.assume or [])
+    if args.load_kg is not None:
+        if "load_kg" in assume:
+            raise InputError("--load-kg and --assume load_kg=... both given: give one")
+        assume["load_kg"] = args.load_kg
+    captured = capture(kp.points, kp.fmt, up, assume)
+    scores = capture_scores(captured, settings, args.unseen, np.random.default_rng(args.seed),
+                            args.draws)
+    table = pd.DataFrame({"frame": kp.frames})
+    for name in POSTURE_COLUMNS:
+        values = captured.columns[name]
+        table[name] = np.where(captured.unseen[:, POSTURE_COLUMNS.index(name)], np.nan, values)
+    table["unseen"] = captured.unseen_names()
+    for name, values in scores.items():
+        if name.endswith("_probabilities"):
+            table[name] = [" ".join(f"{v}:{p:.3f}" for v, p in enumerate(row) if p > 0)
+                           for row in values]
+        else:
+            table[name] = pd.array(np.where(np.isfinite(values), values, np.nan), dtype="Int64")
+    open_rows = int(captured.unseen.any(axis=1).sum())
+    note = f"; {int(missing.sum())} with missing points" if missing.any() else ""
+    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}, up {up}): "
+                   f"{len(table) - open_rows} with every column measured{note}")
+
+
+def item_scores(source: str) -> tuple[pd.DataFrame, str]:
+    """The table of ``--items`` and what it holds: the tables' scores beside the file's own;
+    where the file gives a score the tables also give, the two are compared."""
+    from ..ergonomics import PostureError
+    from ..ergonomics.worksheet import item_columns, score_items, sheets_given
+    from ..io.csv_input import numeric_columns, read_csv_text
+
+    what = "standard input" if source == "-" else source
+    text = read_csv_text(source, what)
+    names = [c for s in sheets_given(text.columns) for c in item_columns(s) if c in text]
+    numbers = numeric_columns(text, {c: "an item score" for c in names}, what)
+    try:
+        scored = score_items(numbers)
+    except PostureError as exc:
+        raise PostureError(f"{what}: {exc}", exc.row, exc.column, exc.value) from None
+    table = text.copy()
+    differs = [[] for _ in range(len(text))]
+    items = {c for s in sheets_given(text.columns) for c in item_columns(s)}
+    for name, values in scored.items():
+        if name in items:
+            continue
+        if name in text.columns:  # the rater's own: kept, compared, and ours beside it
+            theirs = pd.to_numeric(text[name], errors="coerce").to_numpy()
+            for row in np.flatnonzero(theirs != values):
+                differs[row].append(name)
+            table = table.rename(columns={name: f"given_{name}"})
+        table[name] = values
+    table["differs"] = [";".join(d) for d in differs]
+    bad = [i + 1 for i, d in enumerate(differs) if d]
+    shown = ", ".join(map(str, bad[:10])) + (", …" if len(bad) > 10 else "")
+    note = f"; the file's own scores differ from the tables in rows {shown}" if bad else ""
+    return table, f"{len(text)} worksheets ({', '.join(sheets_given(text.columns))}){note}"

@@ -12,6 +12,12 @@ So an answer is one line, one of:
   values are in the contract's order (the 24 required columns, or all 38) unless a header line
   (the column names, as a posture file's first line) was given before: then in that order.
 
+A session whose answers come from a posture-capture program (``--answer-format
+keypoints:FORMAT``) takes instead one captured frame per answer: the format's joints in its
+order, x, y, z each, in metres, comma-separated (``nan`` for a point not seen), or ``x``. The
+frame is scored as ``ergohandover score --keypoints`` scores it; where the format leaves the
+objective open (a column it cannot see), the answer is the middle of the objective's interval.
+
 Anything else is refused with one line saying what was typed and what is allowed, so that the
 person can answer again; nothing is guessed.
 """
@@ -22,9 +28,11 @@ import io
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from ..ergonomics import ScoringSettings, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS, PostureError
-from ..errors import ErgohandoverError
+from ..errors import ConfigError, ErgohandoverError
 from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
 
@@ -35,6 +43,32 @@ SCORE_RANGES = {"paper_postural": (3, 14), "reba": (1, 15), "reba_ab": (2, 24), 
 scores start at 1; Table A and Table B of REBA start at 1 each."""
 INFEASIBLE = ("x", "infeasible")
 """The answers saying that the worker could not take the box at the location."""
+
+
+ANSWER_FORMATS = ("score", "keypoints:FORMAT[:UP]")
+"""What ``--answer-format`` takes: scores (or x, or posture rows), or captured frames."""
+
+
+def frame_format(text: str, objective: str):
+    """(format, up axis) of an answer format ``keypoints:FORMAT[:UP]``; a one-line
+    :class:`ConfigError` naming what is allowed otherwise."""
+    from ..capture import keypoint_format
+    from ..capture.formats import z_up
+    from ..capture.unseen import SCORES
+
+    kind, _, rest = text.partition(":")
+    name, _, up = rest.partition(":")
+    try:
+        if kind != "keypoints" or not name:
+            raise ConfigError(f"use {' or '.join(ANSWER_FORMATS)}")
+        fmt = keypoint_format(name)
+        z_up(up or fmt.up)  # a known axis
+        if objective not in SCORES:
+            raise ConfigError(f"a captured frame gives {', '.join(SCORES)}, not objective "
+                              f"{objective}")
+    except ErgohandoverError as exc:
+        raise ConfigError(f"answer_format = {text!r}: {exc}") from None
+    return fmt, up or fmt.up
 
 
 class Refused(ErgohandoverError, ValueError):
@@ -62,19 +96,27 @@ class AnswerReader:
     """
 
     def __init__(self, objective: str, scoring: ScoringSettings | None = None,
-                 header: tuple[str, ...] | None = None):
+                 header: tuple[str, ...] | None = None, keypoints: str | None = None):
         self.objective = objective
         self.lo, self.hi = SCORE_RANGES[objective]
         self.scoring = scoring or ScoringSettings()
         self.header = header
+        self.keypoints = None if keypoints is None else frame_format(keypoints, objective)
 
     @property
     def prompt(self) -> str:
+        if self.keypoints:
+            return f"a {self.keypoints[0].name} frame, or 'x' if the worker cannot take it there: "
         return (f"score ({self.objective} {self.lo}-{self.hi}), 'x' if the worker cannot take "
                 "it there, or a posture CSV row: ")
 
     @property
     def expected(self) -> str:
+        if self.keypoints:
+            fmt = self.keypoints[0]
+            return (f"a {fmt.name} frame ({3 * len(fmt.joints)} numbers: x, y, z of each of its "
+                    f"{len(fmt.joints)} joints in metres), or x if the worker cannot take the "
+                    "box there")
         return (f"a {self.objective} score {self.lo}-{self.hi}, x if the worker cannot take the "
                 "box there, or a posture CSV row")
 
@@ -86,6 +128,8 @@ class AnswerReader:
             raise Refused(f"nothing typed: expected {self.expected}")
         if text.lower() in INFEASIBLE:
             return Answer(math.inf, "infeasible", text)
+        if self.keypoints:
+            return self._frame(text)
         if "," in text:
             return self._posture(text)
         try:
@@ -117,6 +161,29 @@ class AnswerReader:
             raise Refused(str(exc)) from None
         return Answer(float(score_postures(posture, self.scoring)[self.objective][0]),
                       "posture", text)
+
+    def _frame(self, text: str) -> Answer:
+        from ..capture import capture, capture_scores
+        from ..capture.checks import check_keypoints
+        from ..capture.readers import Keypoints
+
+        fmt, up = self.keypoints
+        cells = [cell.strip() for cell in text.split(",")]
+        try:
+            values = np.array([float(cell) for cell in cells])
+        except ValueError:
+            raise Refused(f"{text[:40]!r} is not an answer: expected {self.expected}") from None
+        if values.size != 3 * len(fmt.joints):
+            raise Refused(f"a frame of {values.size} values: expected {self.expected}")
+        points = values.reshape(1, len(fmt.joints), 3)
+        try:
+            check_keypoints(Keypoints(np.array([1]), points, fmt), up, "unseen", "the frame")
+            captured = capture(points, fmt, up)
+        except ErgohandoverError as exc:
+            raise Refused(str(exc)) from None
+        scores = capture_scores(captured, self.scoring)
+        low, high = scores[f"{self.objective}_lo"][0], scores[f"{self.objective}_hi"][0]
+        return Answer((low + high) / 2, "keypoints", text)
 
     @staticmethod
     def _header(cells: list[str]) -> tuple[str, ...]:

@@ -1,0 +1,104 @@
+"""Keypoints checked before they are scored: every frame has a point, no point is infinite, a
+missing point is refused or declared unseen, and the body is the size of a person and upright
+along the stated up axis (a file in centimetres, or with another axis up, is caught here)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .formats import UP_AXES, z_up
+from .readers import KeypointFileError, Keypoints
+
+MISSING = ("error", "unseen")
+"""What a missing point does (:func:`check_keypoints`)."""
+
+MIN_HEIGHT_M, MAX_HEIGHT_M = 0.3, 3.0
+"""The body's extent along the up axis that a file in metres gives (median over frames)."""
+
+MAX_LYING_RATIO = 1.5
+"""A body whose horizontal extent is more than this many times its extent along the up axis
+lies across it: the up axis is wrong."""
+
+
+def _flip(up: str) -> str:
+    return up[1:] if up.startswith("-") else f"-{up}"
+
+
+def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarray:
+    """Check keypoints before they are scored.
+
+    Args:
+        kp: the file's keypoints.
+        up: the up axis of ``kp.points`` (``x``, ``-y``, ...).
+        missing: ``error`` (a missing point is an error) or ``unseen`` (the columns the missing
+            points decide are unseen in their frames).
+        what: the file's name as the user typed it (messages start with it).
+
+    Returns:
+        (N,) bool: the frames with a missing (NaN) point.
+
+    Raises:
+        KeypointFileError: one line, in this order: no frames; an infinite coordinate; a frame
+        without any point; a missing point with ``missing="error"``; a body whose median extent
+        along the up axis is outside 0.3-3 m; a body lying across the up axis; a body upside
+        down along it.
+    """
+    if missing not in MISSING:
+        raise KeypointFileError(f"{what}: --missing {missing!r} is not allowed (use "
+                                f"{' or '.join(MISSING)})")
+    if up not in UP_AXES:
+        raise KeypointFileError(f"{what}: up axis {up!r} is not allowed (use "
+                                f"{', '.join(UP_AXES)})")
+    points, joints, frames = kp.points, kp.fmt.joints, kp.frames
+    if len(points) == 0:
+        raise KeypointFileError(f"{what} has no frames")
+    infinite = np.argwhere(np.isinf(points).any(axis=2))
+    if infinite.size:
+        i, j = infinite[0]
+        raise KeypointFileError(f"{what}: frame {frames[i]}, joint '{joints[j]}' has an infinite "
+                                f"coordinate (expected finite numbers; NaN or an empty cell for "
+                                f"a missing point)")
+    absent = np.isnan(points).any(axis=2)  # (N, J)
+    empty = np.flatnonzero(absent.all(axis=1))
+    if empty.size:
+        raise KeypointFileError(f"{what}: frame {frames[empty[0]]} has no points (every joint is "
+                                f"missing; {empty.size} such frame(s)): remove such frames")
+    gaps = absent.any(axis=1)
+    if missing == "error" and gaps.any():
+        i, j = np.argwhere(absent)[0]
+        raise KeypointFileError(
+            f"{what}: frame {frames[i]}, joint '{joints[j]}' is missing (NaN or an empty cell; "
+            f"{int(gaps.sum())} of {len(gaps)} frames miss points): --missing unseen scores such "
+            f"frames with the columns those points decide as unseen")
+    order, sign = z_up(up)
+    p = points[..., order] * np.array([1.0, 1.0, sign])  # z up
+    extent = np.nanmax(p, axis=1) - np.nanmin(p, axis=1)  # (N, 3)
+    height = float(np.median(extent[:, 2]))
+    axis = up.lstrip("-")
+    if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:
+        hint = ("are the keypoints in metres? (--units cm|mm)" if height > MAX_HEIGHT_M else
+                "is the up axis right (--up), and are the keypoints in metres (--units)?")
+        raise KeypointFileError(
+            f"{what}: the body is {height:.1f} m tall (the median extent of its points along "
+            f"the up axis {axis}): expected {MIN_HEIGHT_M:g}-{MAX_HEIGHT_M:g} m; {hint}")
+    across = float(np.median(extent[:, :2].max(axis=1)))
+    if across > MAX_LYING_RATIO * height:
+        raise KeypointFileError(
+            f"{what}: the body lies across the up axis '{up}' (a median {across:.2f} m across "
+            f"it and {height:.2f} m along it): give the axis that points up "
+            f"(--up {'|'.join(UP_AXES)})")
+    marks = kp.fmt.landmarks
+    needed = ("left_shoulder", "right_shoulder", "left_ankle", "right_ankle")
+    if all(m in marks for m in needed):
+        def level(mark: str) -> np.ndarray:
+            return p[:, [kp.fmt.index(j) for j in marks[mark]], 2].mean(axis=1)
+
+        rise = ((level("left_shoulder") + level("right_shoulder"))
+                - (level("left_ankle") + level("right_ankle"))) / 2
+        seen = rise[np.isfinite(rise)]
+        if seen.size and float(np.median(seen)) < 0:
+            raise KeypointFileError(
+                f"{what}: the body is upside down along the up axis '{up}' (its shoulders are "
+                f"a median {-float(np.median(seen)):.2f} m below its ankles): is the up axis "
+                f"'{_flip(up)}'? (--up)")
+    return gaps
