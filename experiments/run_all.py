@@ -20,6 +20,8 @@ Parts, in order:
   robustness    the recommendation under posture-measurement error and a wrong model
   stance        the headline comparison for a worker who may step toward the box
   personalise   how many handovers each searcher needs to find one worker's own optimum
+  capture       how well each keypoint format measures the twin, and its scores with
+                published angle errors
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
 Configurations (experiments/configs/, each what differs from the defaults in
@@ -66,15 +68,16 @@ STEPS = (*PARTS, "figures")
 ESTIMATE_S = {"default": {"landscape": 128, "baselines": 180, "ablations": 58,
                           "participants": 55, "population": 397, "sensitivity": 129,
                           "validation": 4, "robustness": 316, "stance": 23, "personalise": 431,
-                          "figures": 32},
+                          "capture": 20, "figures": 32},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
-                        "robustness": 63, "stance": 10, "personalise": 8, "figures": 22}}
+                        "robustness": 63, "stance": 10, "personalise": 8, "capture": 9,
+                        "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
                 "validation": "fig_validation", "robustness": "fig_robustness",
-                "personalise": "fig_personalise"}
+                "personalise": "fig_personalise", "capture": "fig_capture"}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 

@@ -288,6 +288,20 @@ class StanceConfig:
     seed: int = setting(27, lo=0)
 
 
+@dataclasses.dataclass(frozen=True)
+class CaptureConfig:
+    """How well each keypoint format measures the twin (:mod:`..capture_accuracy`): the twin's
+    postures at ``postures`` locations drawn (seeded) from the landscape's feasible ones, each
+    measured ``draws`` times at every angle error SD of ``angle_sds``: 3.5° for pose models
+    trained on ergonomics data (VEHS-7M; Wen et al. 2025), 15° the median RMSE of markerless
+    joint angles against optical motion capture (46 people; Wang, Fethke & Baek)."""
+
+    postures: int = setting(1000, lo=1)
+    angle_sds: tuple[float, ...] = setting((0.0, 3.5, 15.0), lo=0, unit="deg")
+    draws: int = setting(20, lo=1)
+    seed: int = setting(40, lo=0)
+
+
 READS = {"baselines": ("learning",),
          "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
          "personalise": ("population",),
@@ -313,6 +327,7 @@ class StudyConfig:
     robustness: RobustnessConfig = setting(RobustnessConfig())
     personalise: PersonaliseConfig = setting(PersonaliseConfig())
     stance: StanceConfig = setting(StanceConfig())
+    capture: CaptureConfig = setting(CaptureConfig())
 
     def __post_init__(self):
         learning = self.learning
