@@ -13,9 +13,11 @@ from ergohandover.capture import FORMATS, capture, capture_scores, keypoint_form
 from ergohandover.capture.angles import clavicle_slope_deg, measure
 from ergohandover.capture.formats import SIDES, FormatError, z_up
 from ergohandover.capture.placement import place, to_axes
-from ergohandover.capture.unseen import plausible_ranges
-from ergohandover.ergonomics import Posture, score_postures
-from ergohandover.ergonomics.posture import POSTURE_COLUMNS
+from ergohandover.capture.unseen import items_read, plausible_ranges
+from ergohandover.ergonomics import Posture, ScoringSettings, score_postures
+from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
+from ergohandover.ergonomics.reba import items as reba_items
+from ergohandover.ergonomics.rula import items as rula_items
 from ergohandover.twin.angles import posture_columns
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.kinematics import KinematicModel
@@ -26,6 +28,8 @@ EXACT = ("h36m17", "zed34", "smpl24")
 """Formats with a spine point and a neck base: their trunk is the twin's thorax."""
 FACE = ("coco17", "mediapipe33")
 """Formats whose trunk runs from the mid-hip to the mid-shoulder point."""
+EXACT_COLUMNS = ("knee_flexion", "elbow_flexion", "wrist_flexion", "wrist_deviation")
+"""Columns every format measures as the twin does: from the limb's own points."""
 FACE_TOLERANCE_DEG = {"trunk_flexion": 10.0, "trunk_side_bend": 7.0, "trunk_twist": 5.0,
                       "neck_flexion": 11.0, "neck_side_bend": 9.0, "neck_twist": 5.0,
                       "upper_arm_abduction": 8.0}
@@ -73,8 +77,7 @@ def test_the_twins_postures_come_back_as_its_angles(postures, name):
         error = angle_error(values[seen], truth[column][seen])
         if column.endswith(("across_midline", "hands_above_neck")):
             continue  # flags: below
-        if name in EXACT or column.split("_", 1)[1] in ("knee_flexion", "elbow_flexion",
-                                                        "wrist_flexion", "wrist_deviation"):
+        if name in EXACT or column.split("_", 1)[1] in EXACT_COLUMNS:
             assert error.max() < 1e-6, (name, column, error.max())
         else:
             bare = column.removeprefix("left_").removeprefix("right_")
@@ -265,3 +268,40 @@ def test_formats_and_axes_are_refused_by_name():
         order, sign = z_up(up)
         turned = np.eye(3)[order] * np.array([[1.0], [1.0], [sign]])
         assert np.isclose(np.linalg.det(turned), 1.0)  # right-handed either way
+
+
+@pytest.mark.parametrize("name", FACE)
+def test_away_from_band_edges_a_format_of_its_own_trunk_gives_the_twins_item_scores(
+        postures, name):
+    """Where every angle is within the format's tolerance of the twin's and further than that
+    from its band edges, COCO-17's and MediaPipe-33's item scores are the twin's (an item that
+    reads an unseen column is an interval's business: above)."""
+    body, state, truth = postures
+    fmt = FORMATS[name]
+    captured = capture(place(state, body, fmt), fmt, assume=task_of(truth))
+    settings = ScoringSettings()
+
+    def items(columns):
+        return {**reba_items(Posture(columns), settings), **rula_items(Posture(columns),
+                                                                       settings)}
+
+    want, got = items(truth), items(captured.columns)
+    reads = items_read(settings)
+    checked = 0
+    for item, values in want.items():
+        ok = np.ones(len(values), dtype=bool)
+        for column in reads[item]:
+            at = POSTURE_COLUMNS.index(column)
+            if COLUMN_BY_NAME[column].kind != "angle":
+                ok &= captured.columns[column] == truth[column]
+                continue
+            bare = column.removeprefix("left_").removeprefix("right_")
+            tol = 1e-6 if bare in EXACT_COLUMNS else FACE_TOLERANCE_DEG.get(bare, 12.0)
+            ok &= ~captured.unseen[:, at]
+            ok &= angle_error(captured.columns[column], truth[column]) <= tol
+            for step in np.linspace(-tol, tol, 9):  # every band the error could reach
+                moved = items({**truth, column: np.clip(truth[column] + step, -180, 180)})
+                ok &= moved[item] == values
+        assert (got[item][ok] == values[ok]).all(), item
+        checked += ok.sum()
+    assert checked > 1000  # enough postures away from every edge to say something

@@ -129,6 +129,16 @@ def _pieces(settings: ScoringSettings) -> tuple[dict[str, np.ndarray], dict[str,
     return values, changes
 
 
+def items_read(settings: ScoringSettings | None = None) -> dict[str, frozenset[str]]:
+    """Each item score of REBA, RULA and the paper's score -> the Posture columns it reads."""
+    _, changes = _pieces(settings or ScoringSettings())
+    out: dict[str, set[str]] = {}
+    for column, items in changes.items():
+        for item in items:
+            out.setdefault(item, set()).add(column)
+    return {item: frozenset(columns) for item, columns in out.items()}
+
+
 def _groups(unseen: list[str], changes: dict[str, frozenset]) -> list[list[str]]:
     """The unseen columns joined where they change a common item."""
     groups: list[tuple[set[str], set[str]]] = []
