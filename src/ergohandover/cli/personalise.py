@@ -269,8 +269,11 @@ def run(args: argparse.Namespace) -> int:
         output = run_folder("personalise")
         state = output / STATE
     session = open_session(args, state, settings, searcher)
+    task = evaluator.task
     reader = AnswerReader(args.objective, evaluator.scoring, session.posture_header,
-                          None if args.answer_format == "score" else args.answer_format)
+                          None if args.answer_format == "score" else args.answer_format,
+                          {"load_kg": task.box_mass_kg, "coupling": float(task.coupling),
+                           "activity": float(task.activity)})
     oracle = build_oracle(args, grid, evaluator, reader, output)
     introduce(args, evaluator, grid, prior, session)
     resume = "the same command" + (f" with --output {output}" if new_folder else "")

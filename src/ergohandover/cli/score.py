@@ -152,8 +152,6 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--keypoints needs --format (h36m17, coco17, mediapipe33, zed34, "
                          "smpl24 or bvh)")
     settings = dataclass_from_args(ScoringSettings, args)
-    output = args.output or str(run_folder("score") / "scores.csv")
-    target = None if output == "-" else writable(output)
     if args.keypoints is not None:
         table, what = keypoint_scores(args, settings)
     elif args.items is not None:
@@ -164,10 +162,12 @@ def run(args: argparse.Namespace) -> int:
         scores = pd.DataFrame(score_postures(posture, settings))
         passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
         table, what = pd.concat([passthrough, scores], axis=1), f"{len(text)} postures"
-    if target is None:
+    # Only now, everything read and scored: a bad input leaves no folder behind.
+    output = args.output or str(run_folder("score") / "scores.csv")
+    if output == "-":
         table.to_csv(sys.stdout, index=False)
     else:
-        atomic_write_csv(table, target)
+        atomic_write_csv(table, writable(output))
         print(f"scored {what} -> {output}", file=sys.stderr)
     return 0
 
@@ -240,9 +240,9 @@ def item_scores(source: str) -> tuple[pd.DataFrame, str]:
     for name, values in scored.items():
         if name in items:
             continue
-        if name in text.columns:  # the rater's own: kept, compared, and ours beside it
-            theirs = pd.to_numeric(text[name], errors="coerce").to_numpy()
-            for row in np.flatnonzero(theirs != values):
+        if name in text.columns:  # the rater's own: kept, compared where given, ours beside it
+            theirs = given_scores(text, name, what)
+            for row in np.flatnonzero(~np.isnan(theirs) & (theirs != values)):
                 differs[row].append(name)
             table = table.rename(columns={name: f"given_{name}"})
         table[name] = values
@@ -250,4 +250,16 @@ def item_scores(source: str) -> tuple[pd.DataFrame, str]:
     bad = [i + 1 for i, d in enumerate(differs) if d]
     shown = ", ".join(map(str, bad[:10])) + (", …" if len(bad) > 10 else "")
     note = f"; the file's own scores differ from the tables in rows {shown}" if bad else ""
-    return table, f"{len(text)} worksheets ({', '.join(sheets_given(text.columns))}){note}"
+    return table, (f"{len(text)} worksheets of {what} ({', '.join(sheets_given(text.columns))})"
+                   f"{note}")
+
+
+def given_scores(text: pd.DataFrame, name: str, what: str) -> np.ndarray:
+    """A score column the sheet gives, as numbers; NaN where its cell is empty (not given)."""
+    cells = text[name].str.strip()
+    values = pd.to_numeric(cells, errors="coerce").to_numpy(dtype=np.float64)
+    bad = np.flatnonzero(np.isnan(values) & (cells != "").to_numpy())
+    if bad.size:
+        raise InputError(f"{what}: row {bad[0] + 1}, column '{name}': {cells.iloc[bad[0]]!r} "
+                         "is not a number (expected the sheet's score, or an empty cell)")
+    return values

@@ -15,8 +15,9 @@ So an answer is one line, one of:
 A session whose answers come from a posture-capture program (``--answer-format
 keypoints:FORMAT``) takes instead one captured frame per answer: the format's joints in its
 order, x, y, z each, in metres, comma-separated (``nan`` for a point not seen), or ``x``. The
-frame is scored as ``ergohandover score --keypoints`` scores it; where the format leaves the
-objective open (a column it cannot see), the answer is the middle of the objective's interval.
+frame is scored as ``ergohandover score --keypoints`` scores it, with the session's task (the
+box's mass, coupling and activity) as known; where the format leaves the objective open (a
+column it cannot see), the answer is the middle of the objective's interval.
 
 Anything else is refused with one line saying what was typed and what is allowed, so that the
 person can answer again; nothing is guessed.
@@ -93,15 +94,21 @@ class AnswerReader:
             unless the session's evaluator says otherwise).
         header: the column names of posture rows, from an earlier header line (None: the
             contract's order).
+        keypoints: the answer format ``keypoints:FORMAT[:UP]`` of captured frames (None:
+            scores, x and posture rows).
+        task: the Posture columns a captured frame cannot show, known from the session's task
+            (the box's mass as ``load_kg``, ``coupling``, ``activity``).
     """
 
     def __init__(self, objective: str, scoring: ScoringSettings | None = None,
-                 header: tuple[str, ...] | None = None, keypoints: str | None = None):
+                 header: tuple[str, ...] | None = None, keypoints: str | None = None,
+                 task: dict[str, float] | None = None):
         self.objective = objective
         self.lo, self.hi = SCORE_RANGES[objective]
         self.scoring = scoring or ScoringSettings()
         self.header = header
         self.keypoints = None if keypoints is None else frame_format(keypoints, objective)
+        self.task = task or {}
 
     @property
     def prompt(self) -> str:
@@ -178,7 +185,7 @@ class AnswerReader:
         points = values.reshape(1, len(fmt.joints), 3)
         try:
             check_keypoints(Keypoints(np.array([1]), points, fmt), up, "unseen", "the frame")
-            captured = capture(points, fmt, up)
+            captured = capture(points, fmt, up, assume=self.task)
         except ErgohandoverError as exc:
             raise Refused(str(exc)) from None
         scores = capture_scores(captured, self.scoring)
