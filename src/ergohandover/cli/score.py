@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
-from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS
+from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS, REQUIRED_COLUMNS
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
@@ -68,8 +68,7 @@ def assumption(text: str) -> tuple[str, float]:
     except ValueError:
         number_value = float("nan")
     try:
-        Posture({**{c: np.zeros(1) for c in POSTURE_COLUMNS if COLUMN_BY_NAME[c].default is None
-                    and COLUMN_BY_NAME[c].same_as is None}, name: np.array([number_value])})
+        Posture({**{c: np.zeros(1) for c in REQUIRED_COLUMNS}, name: np.array([number_value])})
     except PostureError:
         raise BadValue(text, f"{value!r} is not allowed for {name} (expected "
                        f"{COLUMN_BY_NAME[name].allowed})") from None
@@ -190,8 +189,9 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     if args.frames is not None:
         keep = (kp.frames >= args.frames[0]) & (kp.frames <= args.frames[1])
         if not keep.any():
-            raise InputError(f"--frames {args.frames[0]}:{args.frames[1]}: {typed} has frames "
-                             f"{kp.frames[0]}-{kp.frames[-1]}")
+            last = "" if args.frames[1] == sys.maxsize else args.frames[1]
+            raise InputError(f"--frames {args.frames[0]}:{last}: {typed} has frames "
+                             f"{kp.frames.min()}-{kp.frames.max()}")
         kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
     missing = check_keypoints(kp, up, args.missing, typed)
     assume = dict(args.assume or [])
@@ -214,7 +214,8 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
         else:
             table[name] = pd.array(np.where(np.isfinite(values), values, np.nan), dtype="Int64")
     open_rows = int(captured.unseen.any(axis=1).sum())
-    note = f"; {int(missing.sum())} with missing points" if missing.any() else ""
+    shown = ", ".join(map(str, kp.frames[missing][:10])) + (", …" if missing.sum() > 10 else "")
+    note = f"; {int(missing.sum())} with missing points (frames {shown})" if missing.any() else ""
     return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}, up {up}): "
                    f"{len(table) - open_rows} with every column measured{note}")
 
