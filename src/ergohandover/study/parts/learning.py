@@ -59,12 +59,15 @@ from ..script import duration
 from . import landscape as landscape_part
 from .shared import grid_of, landscape
 
-STEPS_PER_S = {"dqn": 1_300, "qlearning": 380_000, "qlearning-adaptive": 390_000,
-               "randomwalk": 1_650_000, "random": 3_300_000, "hillclimb": 1_250_000}
+STEPS_PER_S = {"dqn": 3_240, "qlearning": 657_000, "qlearning-adaptive": 634_000,
+               "randomwalk": 2_720_000, "random": 5_440_000, "hillclimb": 1_370_000}
 """Speeds for the time estimate and the progress bar [steps/s] on one free core: the runs' own
 times in the first default study with paired runs (``elapsed_s`` fitted against evaluations
 and grid size), corrected for that machine's load (the runs' times summed to twice the part's
-CPU time); another agent is costed as the slower table learner."""
+CPU time), then scaled by each agent's median speed over the same runs on the machine of the
+committed study (DQN 2.49x, Q-learning 1.73x, its adaptive version 1.63x, the random walk
+1.65x, hill-climbing 1.10x; random sampling, whose runs are too short to time, as the walk);
+another agent is costed as the slower table learner."""
 SEARCH_STEPS = {"dqn": 13_000, "qlearning": 56_500, "qlearning-adaptive": 55_700,
                 "randomwalk": 61_100, "random": 3_400, "hillclimb": 6_700}
 """Mean evaluations of a search run stopped at the target (capped by its budget) over the
