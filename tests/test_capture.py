@@ -8,6 +8,7 @@ import importlib
 
 import numpy as np
 import pytest
+from twin_postures import random_twin_postures
 
 from ergohandover.capture import FORMATS, capture, capture_scores, keypoint_format
 from ergohandover.capture.angles import clavicle_slope_deg, measure
@@ -18,11 +19,7 @@ from ergohandover.ergonomics import Posture, ScoringSettings, score_postures
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
 from ergohandover.ergonomics.reba import items as reba_items
 from ergohandover.ergonomics.rula import items as rula_items
-from ergohandover.twin.angles import posture_columns
 from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.kinematics import KinematicModel
-from ergohandover.twin.skeleton import build_skeleton
-from ergohandover.twin.task import TaskSpec
 
 EXACT = ("h36m17", "zed34", "smpl24")
 """Formats with a spine point and a neck base: their trunk is the twin's thorax."""
@@ -37,23 +34,9 @@ FACE_TOLERANCE_DEG = {"trunk_flexion": 10.0, "trunk_side_bend": 7.0, "trunk_twis
 thorax, and what it moves (the round trip's largest errors on these postures, rounded up)."""
 
 
-def twin_postures(n: int, seed: int, body: BodySpec | None = None):
-    """N postures of the twin over 60 % of its joint ranges (upper arms within 80° of
-    abduction, the Euler branch the capture reads), their forward kinematics and the twin's
-    Posture columns."""
-    body = body or BodySpec()
-    model = KinematicModel(build_skeleton(body))
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(0.6 * model.lower, 0.6 * model.upper, (n, model.nq))
-    for side in SIDES:
-        q[:, model.index(f"{side}_shoulder_abduction")] = rng.uniform(-0.5, 1.4, n)
-    state = model.forward(q)
-    return body, state, posture_columns(state, TaskSpec())
-
-
 @pytest.fixture(scope="module")
 def postures():
-    return twin_postures(600, 1)
+    return random_twin_postures(600, 1)
 
 
 def task_of(truth: dict[str, np.ndarray]) -> dict[str, float]:
@@ -161,7 +144,7 @@ def test_a_mirrored_body_gives_mirrored_angles(postures, name):
 
 def test_another_body_needs_its_own_clavicle_slope():
     """Shoulder raise is the clavicle's elevation above its slope at rest, a body's own."""
-    body, state, truth = twin_postures(200, 2, BodySpec.from_percentile("p5-female"))
+    body, state, truth = random_twin_postures(200, 2, BodySpec.from_percentile("p5-female"))
     fmt = FORMATS["zed34"]
     got = measure(place(state, body, fmt), fmt, neutral_clavicle_deg=clavicle_slope_deg(body))
     np.testing.assert_allclose(got["left_shoulder_raise"], truth["left_shoulder_raise"],
@@ -188,7 +171,7 @@ def test_unseen_columns_give_intervals_that_hold_the_true_score(postures, name):
 
 
 def test_a_missing_point_widens_the_scores_it_decides_and_no_other():
-    body, state, truth = twin_postures(300, 3)
+    body, state, truth = random_twin_postures(300, 3)
     fmt = FORMATS["zed34"]
     points = place(state, body, fmt)
     whole = capture(points, fmt, assume=task_of(truth))
@@ -210,7 +193,7 @@ def test_a_missing_point_widens_the_scores_it_decides_and_no_other():
 def test_intervals_are_the_extremes_the_prior_reaches():
     """Sampling the unseen columns never leaves the interval, and over many draws reaches both
     ends; the interval is not wider than the scores the ranges allow."""
-    body, state, _ = twin_postures(60, 5)
+    body, state, _ = random_twin_postures(60, 5)
     fmt = FORMATS["h36m17"]
     captured = capture(place(state, body, fmt), fmt)
     scores = capture_scores(captured, mode="prior", rng=np.random.default_rng(0), draws=4000)
@@ -226,7 +209,7 @@ def test_intervals_are_the_extremes_the_prior_reaches():
 
 
 def test_an_assumed_column_is_no_longer_unseen():
-    body, state, _ = twin_postures(50, 6)
+    body, state, _ = random_twin_postures(50, 6)
     fmt = FORMATS["h36m17"]
     assume = {f"{side}_{part}": 0.0 for side in SIDES
               for part in ("wrist_flexion", "wrist_deviation", "wrist_twist")}

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from twin_postures import random_twin_postures
 
 from ergohandover.capture.angles import measure
 from ergohandover.capture.bvh import ALIASES, axis_rotation, landmark_aliases, parse_bvh, read_bvh
@@ -17,11 +18,7 @@ from ergohandover.capture.checks import check_keypoints
 from ergohandover.capture.placement import to_axes
 from ergohandover.capture.readers import KeypointFileError
 from ergohandover.capture.twin_bvh import twin_bvh, twin_joints
-from ergohandover.twin.angles import posture_columns
 from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.kinematics import KinematicModel
-from ergohandover.twin.skeleton import build_skeleton
-from ergohandover.twin.task import TaskSpec
 
 N_POSTURES = 60
 MEASURED = (
@@ -36,14 +33,7 @@ MEASURED = (
 @pytest.fixture(scope="module")
 def twin():
     """(body, forward kinematics, the twin's own Posture columns) of random postures."""
-    rng = np.random.default_rng(11)
-    body = BodySpec()
-    model = KinematicModel(build_skeleton(body))
-    q = rng.uniform(0.6 * model.lower, 0.6 * model.upper, (N_POSTURES, model.nq))
-    for side in ("left", "right"):
-        q[:, model.index(f"{side}_shoulder_abduction")] = rng.uniform(-0.5, 1.4, N_POSTURES)
-    st = model.forward(q)
-    return body, st, posture_columns(st, TaskSpec())
+    return random_twin_postures(N_POSTURES, 11)
 
 
 @pytest.fixture

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from twin_postures import random_twin_postures
 
 from ergohandover.capture.angles import measure
 from ergohandover.capture.checks import check_keypoints
@@ -17,9 +18,6 @@ from ergohandover.capture.placement import place
 from ergohandover.capture.readers import KeypointFileError, Keypoints, read_keypoints
 from ergohandover.errors import ErgohandoverError
 from ergohandover.io.csv_input import InputError
-from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.kinematics import KinematicModel
-from ergohandover.twin.skeleton import build_skeleton
 
 N_POSTURES = 24
 
@@ -27,13 +25,8 @@ N_POSTURES = 24
 @pytest.fixture(scope="module")
 def twin():
     """(body, forward kinematics) of random twin postures."""
-    rng = np.random.default_rng(7)
-    body = BodySpec()
-    model = KinematicModel(build_skeleton(body))
-    q = rng.uniform(0.6 * model.lower, 0.6 * model.upper, (N_POSTURES, model.nq))
-    for side in ("left", "right"):
-        q[:, model.index(f"{side}_shoulder_abduction")] = rng.uniform(-0.5, 1.4, N_POSTURES)
-    return body, model.forward(q)
+    body, state, _ = random_twin_postures(N_POSTURES, 7)
+    return body, state
 
 
 @pytest.fixture(scope="module")

@@ -24,9 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..io.csv_input import InputError, decode_text
 from .formats import LANDMARKS, KeypointFormat
-from .readers import KeypointFileError, Keypoints, read_file_bytes, unit_scale
+from .readers import KeypointFileError, Keypoints, file_text, read_file_bytes, unit_scale
 
 ALIASES: dict[str, tuple[str, ...]] = {
     "left_hip": ("LeftUpLeg", "LThigh"),
@@ -362,12 +361,7 @@ def parse_bvh(path: str | os.PathLike, units: str = "m") -> BvhMotion:
     """
     what = str(path)
     scale = unit_scale(units, what)
-    data = read_file_bytes(what, what, "a BVH file")
-    try:
-        text = decode_text(data, what)
-    except InputError as exc:
-        raise KeypointFileError(str(exc).replace("a CSV text file", "a BVH text file")
-                                .replace("a CSV file", "a BVH file")) from None
+    text = file_text(read_file_bytes(what, what, "a BVH file"), what, "BVH")
     lines = text.splitlines()
     nodes, motion_line = _parse_hierarchy(lines, what)
     channels = sum(len(node.channels) for node in nodes)

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io.csv_input import InputError, decode_text, read_csv_text
+from ..io.csv_input import InputError, decode_text, read_bytes, read_csv_text
 from .formats import KeypointFormat
 
 UNITS = {"m": 1.0, "cm": 100.0, "mm": 1000.0}
@@ -73,16 +73,17 @@ def unit_scale(units: str, what: str) -> float:
 def read_file_bytes(path: str, what: str, kind: str) -> bytes:
     """The bytes of ``path``; a one-line KeypointFileError if it cannot be read."""
     try:
-        return Path(path).read_bytes()
-    except FileNotFoundError:
-        raise KeypointFileError(f"{what} does not exist") from None
-    except IsADirectoryError:
-        raise KeypointFileError(f"{what} is a folder (expected {kind})") from None
-    except PermissionError:
-        raise KeypointFileError(f"{what} cannot be read (permission denied)") from None
-    except OSError as exc:
-        raise KeypointFileError(
-            f"{what} cannot be read ({exc.strerror or type(exc).__name__})") from None
+        return read_bytes(path, what, kind)
+    except InputError as exc:
+        raise KeypointFileError(str(exc)) from None
+
+
+def file_text(data: bytes, what: str, kind: str) -> str:
+    """``data`` as UTF-8 text; a one-line KeypointFileError naming ``kind`` if it is not."""
+    try:
+        return decode_text(data, what, kind)
+    except InputError as exc:
+        raise KeypointFileError(str(exc)) from None
 
 
 def read_keypoints(path: str | os.PathLike, fmt: KeypointFormat, units: str = "m",
@@ -127,10 +128,9 @@ def read_keypoints(path: str | os.PathLike, fmt: KeypointFormat, units: str = "m
 
 
 def _read_csv(data: bytes, fmt: KeypointFormat, what: str) -> tuple[np.ndarray, np.ndarray]:
+    text = file_text(data, what, "CSV")
     try:
-        table = read_csv_text(io.StringIO(decode_text(data, what)), what)
-    except KeypointFileError:
-        raise
+        table = read_csv_text(io.StringIO(text), what)
     except InputError as exc:
         raise KeypointFileError(str(exc)) from None
     if "joint" in table.columns:
@@ -316,16 +316,12 @@ def _kind(value) -> str:
 
 def _read_json(data: bytes, fmt: KeypointFormat, what: str,
                min_visibility: float) -> np.ndarray:
+    text = file_text(data, what, "JSON")
     try:
-        document = json.loads(decode_text(data, what))
+        document = json.loads(text)
     except json.JSONDecodeError as exc:
         raise KeypointFileError(f"{what} is not valid JSON: {exc.msg} (line {exc.lineno}, "
                                 f"column {exc.colno})") from None
-    except KeypointFileError:
-        raise
-    except InputError as exc:
-        raise KeypointFileError(str(exc).replace("a CSV text file", "a JSON text file")) \
-            from None
     if isinstance(document, dict):
         frames = [document]
     elif isinstance(document, list) and document and isinstance(document[0], dict) \

@@ -24,9 +24,9 @@ class InputError(ErgohandoverError, ValueError):
     """An input file that cannot be used; the message is one line naming what is wrong."""
 
 
-def read_bytes(source: str | os.PathLike, what: str) -> bytes:
+def read_bytes(source: str | os.PathLike, what: str, kind: str = "a CSV file") -> bytes:
     """The bytes of a file, or of standard input for ``"-"``; a one-line InputError if the file
-    cannot be read."""
+    cannot be read (``kind``: what the file should be, for the message)."""
     if isinstance(source, str) and source == "-":
         stdin = sys.stdin
         return stdin.buffer.read() if hasattr(stdin, "buffer") else stdin.read().encode()
@@ -36,7 +36,7 @@ def read_bytes(source: str | os.PathLike, what: str) -> bytes:
     except FileNotFoundError:
         raise InputError(f"{what} does not exist") from None
     except IsADirectoryError:
-        raise InputError(f"{what} is a folder (expected a CSV file)") from None
+        raise InputError(f"{what} is a folder (expected {kind})") from None
     except PermissionError:
         raise InputError(f"{what} cannot be read (permission denied)") from None
     except OSError as exc:
@@ -44,17 +44,18 @@ def read_bytes(source: str | os.PathLike, what: str) -> bytes:
             from None
 
 
-def decode_text(data: bytes, what: str) -> str:
-    """``data`` as UTF-8 text (a byte-order mark allowed); binary data is an InputError."""
+def decode_text(data: bytes, what: str, kind: str = "CSV") -> str:
+    """``data`` as UTF-8 text (a byte-order mark allowed); binary data is an InputError
+    (``kind``: the text's kind, for the message)."""
     zero = data.find(b"\0")
     if zero >= 0:
-        raise InputError(f"{what} is a binary file, not a CSV text file (a zero byte at "
+        raise InputError(f"{what} is a binary file, not a {kind} text file (a zero byte at "
                          f"position {zero})")
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"{what} is not UTF-8 text (byte 0x{data[exc.start]:02x} at position "
-                         f"{exc.start}): expected a CSV file saved as UTF-8") from None
+                         f"{exc.start}): expected a {kind} file saved as UTF-8") from None
 
 
 def open_source(source: str | os.PathLike | IO[str], what: str) -> IO[str]:
