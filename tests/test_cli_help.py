@@ -55,7 +55,7 @@ SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view", "personalise"},
              "gaze": MODEL | {"personalise"}, "percentile": MODEL | {"personalise"},
              "trunk_reference": MODEL | {"personalise"},
              "solver": {"evaluate", "robustness", "sweep", "personalise"},
-             "seed": {"train", "baseline", "robustness", "personalise"},
+             "seed": {"train", "baseline", "robustness", "personalise", "score"},
              "objective": {"train", "personalise"}, "episode_end": {"train"}}
 COMMAND_DEFAULTS = {("personalise", "boundary"): STUDY.population.boundary,
                     ("personalise", "step"): STUDY.population.step}

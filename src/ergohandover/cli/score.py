@@ -15,6 +15,7 @@ from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS, REQUI
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
+from . import defaults
 from .options import add_dataclass_arguments, dataclass_from_args, run_folder, writable
 from .parser import given
 from .values import BadValue, choice, existing_file, number, output_file, whole
@@ -128,8 +129,9 @@ def add_parser(subparsers) -> None:
                          "over their ranges")
     capture.add_argument("--draws", type=whole(1, 100_000), default=400, metavar="N",
                          help="with --unseen prior: values drawn per frame (default: 400)")
-    capture.add_argument("--seed", type=whole(0, None), default=0, metavar="N",
-                         help="with --unseen prior: the seed of the draws (default: 0)")
+    capture.add_argument("--seed", type=whole(0, None), default=defaults.SEED, metavar="N",
+                         help="with --unseen prior: the seed of the draws (default: "
+                         f"{defaults.SEED})")
     capture.add_argument("--assume", type=assumption, action="append", metavar="COLUMN=VALUE",
                          help="a Posture column's value for every frame, known from elsewhere "
                          "(a task factor, or an angle the format cannot see); repeatable")
