@@ -43,9 +43,10 @@ def test_without_error_every_interval_holds_the_twins_score_and_error_costs(hand
             & (table["right"] <= table["right_ci_high"])).all()
     clean = table[(table["angle_sd_deg"] == 0) & table["format"].isin(EXACT)]
     assert (clean["holds"] == 1.0).all()
-    zed = table[table["format"] == "zed34"].set_index(["angle_sd_deg", "score"])["right"]
-    assert zed[(0.0, "paper_postural")] == 1.0  # ZED sees every column the paper's score reads
-    for score in ("reba", "rula", "paper_postural"):
-        assert zed[(15.0, score)] < zed[(0.0, score)]
+    zed = table[table["format"] == "zed34"].set_index(["angle_sd_deg", "score"])
+    assert zed.loc[(0.0, "paper_postural"), "right"] == 1.0  # ZED sees all the paper reads
+    assert zed.loc[(15.0, "paper_postural"), "right"] < 1.0
+    for score in ("reba", "rula"):  # the wrists and the shoulder girdle unseen: an interval
+        assert zed.loc[(0.0, score), "right"] < zed.loc[(0.0, score), "holds"] == 1.0
     again = score_table(evaluator, state, truth, (0.0, 15.0), draws=4, seed=1)
     assert again.equals(table)  # seeded

@@ -112,10 +112,8 @@ def test_every_example_file_scores_as_the_twins_own_postures(name, tmp_path, twi
         if name in WITH_SPINE:
             inside = (lo <= truth) & (truth <= hi)
             assert inside.all(), f"{s}: twin {truth} outside [{lo}, {hi}]"
-        if name == "zed34":
-            seen = np.array([not names for names in unseen])
-            assert seen.sum() == 5, table["unseen"].tolist()  # frame 2: the straight elbows
-            np.testing.assert_array_equal(given[seen], truth[seen], err_msg=s)
+        if name == "zed34" and s == "paper_postural":  # ZED sees every column it reads
+            np.testing.assert_array_equal(given, truth, err_msg=s)
 
 
 def test_the_prior_gives_each_scores_distribution_and_the_same_seed_the_same_file(
@@ -542,7 +540,7 @@ def test_a_captured_frame_answers_with_the_score_the_score_command_gives(
 
 
 @pytest.mark.parametrize(("name", "number", "objective", "expected"), [
-    ("zed34", 2, "reba", 3.5),  # straight elbows: the upper arms' rotation unseen; REBA 3-4
+    ("zed34", 2, "reba", 4.5),  # the wrists and the shoulder girdle unseen: REBA 3-6
     ("h36m17", 1, "paper_postural", 4.5),  # no wrists: 4-5
 ])
 def test_an_open_objective_is_answered_with_the_middle_of_its_interval(

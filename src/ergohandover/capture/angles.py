@@ -19,6 +19,8 @@ toward the thumb.
   straight forearm does not show it);
 - shoulder raise: the clavicle's (neck base or clavicle to shoulder) elevation above its neutral
   slope (the body model's; ``neutral_clavicle_deg``);
+- a column the format declares unseen (``KeypointFormat.unseen``: its source fills those points
+  in from a rigid template) is unseen whatever its points say;
 - wrist flexion, deviation and twist: the hand frame in the forearm's; the twist (pronation)
   only where the upper arm's rotation is measured;
 - hands above the neck, and RULA's "working across the midline or out to the side", from the
@@ -205,7 +207,9 @@ def measure(keypoints: np.ndarray, fmt: KeypointFormat, up: str | None = None,
     cols["hands_above_neck"] = _flag(above > 0, above, 0.0, reach)
     for side, outward in (("left", 1.0), ("right", -1.0)):
         cols.update(_arm(m, side, outward, thorax, top, base, grips[side], reach,
-                         neutral_clavicle_deg))
+                         neutral_clavicle_deg, f"{side}_shoulder_raise" in fmt.unseen))
+    for name in fmt.unseen:  # what the format's source fills in rather than measures
+        cols[name] = np.full(n, np.nan)
     # To a millionth of a degree, far below any instrument's resolution: a posture exactly on
     # a band edge (a joint at its limit) stays on it through the keypoints' rounding errors.
     return {name: np.round(values, ANGLE_DECIMALS) for name, values in cols.items()}
@@ -223,7 +227,7 @@ def _flag(value: np.ndarray, *distances_thresholds_reach) -> np.ndarray:
 
 def _arm(m: dict[str, np.ndarray], side: str, outward: float, thorax: np.ndarray,
          neck: np.ndarray, base: np.ndarray, grip: np.ndarray, reach: float,
-         neutral_clavicle_deg: float) -> dict[str, np.ndarray]:
+         neutral_clavicle_deg: float, raise_unseen: bool) -> dict[str, np.ndarray]:
     """One arm's columns (``{side}_...``), in the twin's joint conventions."""
     shoulder, elbow, wrist = (m[f"{side}_{p}"] for p in ("shoulder", "elbow", "wrist"))
     upper, fore = elbow - shoulder, wrist - elbow
@@ -234,7 +238,7 @@ def _arm(m: dict[str, np.ndarray], side: str, outward: float, thorax: np.ndarray
     clavicle = _in(thorax, shoulder - m.get(f"{side}_clavicle", neck))
     slope = _deg(np.arctan2(clavicle[:, 2], outward * clavicle[:, 1]))
     out["shoulder_raise"] = (slope - neutral_clavicle_deg + 180.0) % 360.0 - 180.0
-    if f"{side}_clavicle" not in m and "neck_base" not in m:
+    if raise_unseen or (f"{side}_clavicle" not in m and "neck_base" not in m):
         out["shoulder_raise"] = np.full(len(slope), np.nan)
     # The upper arm turns in the clavicle's frame (the twin's joints): its rotation is seen only
     # where the clavicle is and the elbow is bent.

@@ -53,6 +53,8 @@ class KeypointFormat:
         joints: the format's points, in its own order (a file's J axis).
         up: the axis that points up in the frame the format is usually written in.
         landmarks: landmark -> the joint names whose mean is it.
+        unseen: Posture columns its points do not show although their geometry would: points
+            its source fills in from a rigid template rather than measures.
     """
 
     name: str
@@ -60,6 +62,7 @@ class KeypointFormat:
     joints: tuple[str, ...]
     up: str
     landmarks: dict[str, tuple[str, ...]] = field(hash=False)
+    unseen: tuple[str, ...] = ()
 
     def __post_init__(self):
         for landmark, names in self.landmarks.items():
@@ -133,6 +136,11 @@ ZED_34 = KeypointFormat(
      **_sided(ear="{side}_ear", hip="{side}_hip", knee="{side}_knee", ankle="{side}_ankle",
               clavicle="{side}_clavicle", shoulder="{side}_shoulder", elbow="{side}_elbow",
               wrist="{side}_wrist", hand="{side}_hand", thumb="{side}_thumb")},
+    # The SDK fits a skeleton whose shoulder girdle and hands are rigid: over Kim et al.'s
+    # 1,000 recordings (ICRA 2025) the clavicle's slope and the hand's angles to the forearm
+    # never change (SD 0.00 deg), so shoulder raise and the wrist are not measured.
+    unseen=tuple(f"{side}_{column}" for side in SIDES for column in (
+        "shoulder_raise", "wrist_flexion", "wrist_deviation", "wrist_twist")),
 )
 
 SMPL_24 = KeypointFormat(
