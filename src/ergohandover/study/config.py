@@ -12,6 +12,7 @@ configuration file that spells a default out and one that leaves it out are the 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 from pathlib import Path
 from typing import Any
@@ -302,6 +303,17 @@ class CaptureConfig:
     seed: int = setting(40, lo=0)
 
 
+def capture_code_version() -> str:
+    """A hash of the capture layer's source (the capture part's results follow from it)."""
+    from .. import capture
+
+    digest = hashlib.sha256()
+    for path in sorted(Path(capture.__file__).parent.glob("*.py")):
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
 READS = {"baselines": ("learning",),
          "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
          "personalise": ("population",),
@@ -385,9 +397,13 @@ class StudyConfig:
     def part_inputs(self, part: str) -> dict[str, Any]:
         """What a part's results depend on (hashed into its manifest): its own section and, for
         every part after it, the landscape's (they all read the landscape) and those of the
-        parts whose results it reads (:data:`READS`)."""
+        parts whose results it reads (:data:`READS`); for the capture part also the capture
+        layer's code."""
         sections = (part,) if part == "landscape" else (part, "landscape", *READS.get(part, ()))
-        return {name: dataclasses.asdict(getattr(self, name)) for name in sections}
+        inputs = {name: dataclasses.asdict(getattr(self, name)) for name in sections}
+        if part == "capture":  # its results are the capture layer's arithmetic
+            inputs["capture_code"] = capture_code_version()
+        return inputs
 
     def task(self, gaze: str | None = None, stance: str = "fixed") -> TaskSpec:
         """The study's task: the default box, with the landscape's gaze (or ``gaze``), the
