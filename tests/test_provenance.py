@@ -32,3 +32,22 @@ def test_every_committed_part_is_finished_for_the_default_study_and_todays_code(
     assert not git["dirty"], f"results/{part} was made from a tree that differed: " \
         f"{git['dirty_files']}"
     assert manifest["engine"]["name"] in ("local", "ray") and manifest["wall_time_s"] > 0
+
+
+def test_a_changed_file_is_named_whole(tmp_path):
+    """git's status line for a file changed in the work tree starts with a space: the name
+    after it is the file's whole name."""
+    import subprocess
+
+    from ergohandover.io.manifest import git_state
+
+    def git(*args):
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "README.md").write_text("one\n")
+    git("add", "README.md")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "one")
+    (tmp_path / "README.md").write_text("two\n")
+    state = git_state(tmp_path)
+    assert state["dirty"] and state["dirty_files"] == ["README.md"]

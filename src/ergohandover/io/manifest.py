@@ -30,7 +30,7 @@ def git_state(cwd: str | os.PathLike | None = None) -> dict[str, Any]:
     try:
         run = lambda *a: subprocess.run(  # noqa: E731
             ["git", *a], cwd=cwd, capture_output=True, text=True, timeout=10, check=True
-        ).stdout.strip()
+        ).stdout.rstrip()  # a status line starts with a space: keep it
         commit = run("rev-parse", "HEAD")
         changed = run("status", "--porcelain", "--untracked-files=no", "--", ":(top)",
                       *(f":(top,exclude){folder}" for folder in OUTPUTS))
