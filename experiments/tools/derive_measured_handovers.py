@@ -31,14 +31,14 @@ Definitions (one handover):
   (format zed34, up z); unseen columns are null; scores with no load known (the object's mass is
   not in the data set) as intervals.
 
-Output: JSON (sorted keys; metres to 1 mm, degrees to 0.1 deg) written through a temporary file
-and os.replace: the source, each handover's figures, and the dropped ones with their reasons.
+Output: CSV, one row per handover file in name order (metres to 1 mm, degrees to 0.1 deg; a
+first line ``# source: ...``), written through a temporary file and os.replace: each handover's
+figures, or for one without a transfer only ``dropped``, the reason.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import pickle
 import sys
@@ -46,13 +46,14 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from ergohandover.capture import capture, capture_scores, keypoint_format
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
 from ergohandover.study.transfer import TransferError, transfer
 
 ROOT = Path(__file__).resolve().parents[2]
-OUTPUT = ROOT / "src" / "ergohandover" / "study" / "measured_handovers.json"
+OUTPUT = ROOT / "src" / "ergohandover" / "study" / "measured_handovers.csv"
 FPS = 30.0
 HANDS = (8, 15)
 """BODY_34's left and right hand points."""
@@ -96,10 +97,10 @@ def handover(path: Path) -> dict:
         if COLUMN_BY_NAME[name].kind == "angle"}
     return {"handover": path.stem, "frames": len(obj), "transfer_frame": frame,
             "receiving_hand": side, "hand_to_object_m": round(found.distance, 3),
-            "location": {k: round(float(v), 3) for k, v in location.items()},
-            "sizes": _sizes(receiver, fmt), "posture": posture,
-            "scores": {name: int(values[0]) for name, values in scores.items()
-                       if name.endswith(("_lo", "_hi"))}}
+            **{k: round(float(v), 3) for k, v in location.items()},
+            **_sizes(receiver, fmt), **posture,
+            **{name: int(values[0]) for name, values in scores.items()
+               if name.endswith(("_lo", "_hi"))}}
 
 
 def _heading(points: np.ndarray, fmt) -> np.ndarray:
@@ -135,41 +136,42 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=1, keepdims=True)
 
 
-def derive(data_dir: Path) -> dict:
-    """Every handover under ``data_dir``: the figures of those with a transfer, the rest
-    counted with their reasons."""
+def derive(data_dir: Path) -> pd.DataFrame:
+    """Every handover under ``data_dir``: the figures of those with a transfer, the rest with
+    the reason they were dropped."""
     files = sorted(data_dir.rglob("*.pkl"))
     if not files:
         raise SystemExit(f"{data_dir}: no .pkl handover files found (expected the data set's "
                          "data/whole_motions/)")
-    used, dropped = [], []
+    rows = []
     for path in files:
         try:
-            used.append(handover(path))
+            rows.append({**handover(path), "dropped": ""})
         except TransferError as exc:
-            dropped.append({"handover": path.stem, "reason": str(exc)})
+            rows.append({"handover": path.stem, "dropped": str(exc)})
         except (KeyError, ValueError, pickle.UnpicklingError) as exc:
-            dropped.append({"handover": path.stem, "reason": f"unreadable: {exc}"})
-    return {"source": SOURCE, "fps": FPS, "handovers": used, "dropped": dropped}
+            rows.append({"handover": path.stem, "dropped": f"unreadable: {exc}"})
+    return pd.DataFrame(rows)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("data_dir", type=Path, help="the folder of the data set's .pkl files")
-    parser.add_argument("--output", type=Path, default=OUTPUT, help="JSON to write")
+    parser.add_argument("--output", type=Path, default=OUTPUT, help="CSV to write")
     args = parser.parse_args()
     if not args.data_dir.is_dir():
         print(f"{args.data_dir}: not a folder", file=sys.stderr)
         raise SystemExit(2)
-    derived = derive(args.data_dir)
-    text = json.dumps(derived, sort_keys=True, indent=1) + "\n"
+    table = derive(args.data_dir)
+    text = f"# source: {SOURCE}\n" + table.to_csv(index=False, lineterminator="\n")
     args.output.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile("w", dir=args.output.parent, delete=False,
                                      suffix=".tmp") as handle:
         handle.write(text)
     os.replace(handle.name, args.output)
-    print(f"{len(derived['handovers'])} handovers used, {len(derived['dropped'])} dropped -> "
-          f"{args.output}", file=sys.stderr)
+    dropped = int((table["dropped"] != "").sum())
+    print(f"{len(table) - dropped} handovers used, {dropped} dropped -> {args.output}",
+          file=sys.stderr)
 
 
 if __name__ == "__main__":
