@@ -264,12 +264,17 @@ def test_a_sheet_whose_own_score_disagrees_with_the_tables_is_flagged(tmp_path, 
 
 # 4. Malformed inputs: one line, exit 2, nothing written ----------------------------------------
 
-def h36m_wide(tmp_path: Path, change) -> Path:
-    table = pd.read_csv(KEYPOINTS / "h36m17.csv", dtype=str)
+def changed(tmp_path: Path, example: str, change) -> Path:
+    """A copy of an example CSV, its cells as text, with ``change`` made to it."""
+    table = pd.read_csv(KEYPOINTS / example, dtype=str)
     change(table)
-    path = tmp_path / "wide.csv"
+    path = tmp_path / example
     table.to_csv(path, index=False)
     return path
+
+
+def h36m_wide(tmp_path: Path, change) -> Path:
+    return changed(tmp_path, "h36m17.csv", change)
 
 
 def set_cell(row: int, column: str, value: str):
@@ -279,11 +284,7 @@ def set_cell(row: int, column: str, value: str):
 
 
 def coco_long(tmp_path: Path, change) -> Path:
-    table = pd.read_csv(KEYPOINTS / "coco17_long.csv", dtype=str)
-    change(table)
-    path = tmp_path / "long.csv"
-    table.to_csv(path, index=False)
-    return path
+    return changed(tmp_path, "coco17_long.csv", change)
 
 
 def write(tmp_path: Path, name: str, text: str) -> Path:
