@@ -13,8 +13,10 @@ from twin_postures import random_twin_postures
 
 from ergohandover.capture import FORMATS, capture, capture_scores, keypoint_format
 from ergohandover.capture.angles import clavicle_slope_deg, measure
+from ergohandover.capture.checks import check_keypoints
 from ergohandover.capture.formats import SIDES, FormatError, z_up
 from ergohandover.capture.placement import place, to_axes
+from ergohandover.capture.readers import Keypoints
 from ergohandover.capture.unseen import items_read, plausible_ranges
 from ergohandover.ergonomics import Posture, ScoringSettings, score_postures
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
@@ -252,6 +254,11 @@ def test_formats_and_axes_are_refused_by_name():
         keypoint_format("openpose")
     with pytest.raises(FormatError, match="up axis 'up' is not allowed"):
         z_up("up")
+    body, state, _ = random_twin_postures(2, 9)
+    fmt = FORMATS["h36m17"]
+    keypoints = Keypoints(np.array([1, 2]), place(state, body, fmt), fmt)
+    with pytest.raises(FormatError, match="up axis 'q' is not allowed"):
+        check_keypoints(keypoints, "q", "error", "two.csv")  # before anything is checked
     for up in ("x", "-x", "y", "-y", "z", "-z"):
         order, sign = z_up(up)
         turned = np.eye(3)[order] * np.array([[1.0], [1.0], [sign]])

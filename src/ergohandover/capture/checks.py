@@ -46,9 +46,7 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarr
     if missing not in MISSING:
         raise KeypointFileError(f"{what}: --missing {missing!r} is not allowed (use "
                                 f"{' or '.join(MISSING)})")
-    if up not in UP_AXES:
-        raise KeypointFileError(f"{what}: up axis {up!r} is not allowed (use "
-                                f"{', '.join(UP_AXES)})")
+    order, sign = z_up(up)  # the one rule of an up axis: FormatError for another
     points, joints, frames = kp.points, kp.fmt.joints, kp.frames
     if len(points) == 0:
         raise KeypointFileError(f"{what} has no frames")
@@ -70,7 +68,6 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarr
             f"{what}: frame {frames[i]}, joint '{joints[j]}' is missing (NaN or an empty cell; "
             f"{int(gaps.sum())} of {len(gaps)} frames miss points): --missing unseen scores such "
             f"frames with the columns those points decide as unseen")
-    order, sign = z_up(up)
     p = points[..., order] * np.array([1.0, 1.0, sign])  # z up
     extent = np.nanmax(p, axis=1) - np.nanmin(p, axis=1)  # (N, 3)
     height = float(np.median(extent[:, 2]))
