@@ -79,6 +79,10 @@ class Evaluator:
             raise EvaluationError(f"warm_start = 'fine' is not allowed with solver = "
                                   f"{self.solver!r} (it interpolates the whole-body solver's "
                                   "postures: use solver 'whole-body')")
+        if self.task.hands != "both" and self.solver != "whole-body":
+            raise EvaluationError(f"hands = {self.task.hands!r} is not allowed with solver = "
+                                  f"{self.solver!r} (its IK grips both handles: use solver "
+                                  "'whole-body')")
         if self.task.stance == "step" and self.solver != "whole-body":
             raise EvaluationError(f"stance = 'step' is not allowed with solver = "
                                   f"{self.solver!r} (a step is chosen by the whole-body "

@@ -31,6 +31,7 @@ from numba import njit
 
 from .anthropometry import GRAVITY
 from .kernel_tasks import (
+    GRIP_ROW,
     JIT,
     ROWS,
     effort_relations,
@@ -174,7 +175,7 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
         kin, task: the tuples of :class:`PackedSolver`.
         q_out: (N, nq) solved postures [rad].
         pos_out, rot_out, axes_out: (L, 3, N), (L, 3, 3, N), (nq, 3, N) their kinematics.
-        error_out: (N,) the worse hand's distance from its handle [m].
+        error_out: (N,) the worse taking hand's distance from its grip point [m].
         com_out: (N, 3) centre of mass with the box [m].
         used_out: (N,) iterations run.
         cost_out: (N,) the solver's objective at the solved posture.
@@ -199,6 +200,8 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
         cost_out[i] = cost
         worst = 0.0
         for side in range(2):
+            if task[4][GRIP_ROW[side]] == 0.0:  # a hand that takes nothing misses nothing
+                continue
             d = 0.0
             for c in range(3):
                 e = pos[links[2 * side], c] - targets[i, side, c]
@@ -250,7 +253,7 @@ class PackedSolver:
         kin_steps = np.array([(st.parent, st.child, st.col, st.axis) for st in steps], np.int64)
         geometry = np.column_stack([origin, [st.sign for st in steps]])  # (S, 4)
         limits = np.stack([model.lower, model.upper, solver.neutral, solver.preference])
-        half = solver.task.box_mass_kg / 2.0
+        loads = solver.grip_loads()
         grips = [model.link_index("left_grip"), model.link_index("right_grip")]
         mass_link = np.array([i for i, _ in model.mass_points] + grips, np.int64)  # (P,)
         mass_geom = np.zeros((len(mass_link), 4))  # offset in the link [m], mass [kg]
@@ -258,7 +261,7 @@ class PackedSolver:
             for c, v in com:
                 mass_geom[p, c] = v
             mass_geom[p, 3] = model.link_mass[i]
-        mass_geom[-2:, 3] = half
+        mass_geom[-2:, 3] = loads["left_grip"], loads["right_grip"]
         links = np.array([model.link_index(n) for n in
                           ("left_grip", "left_hand", "right_grip", "right_hand", "gaze")],
                          np.int64)
@@ -278,7 +281,7 @@ class PackedSolver:
         scalars = np.array([solver.eye_cone, x0 + m, x1 - m, y0 + m, y1 - m, s.damping,
                             np.radians(s.max_step_deg), mass_geom[:, 3].sum(), s.effort_free,
                             *solver.hamstring])
-        weights = row_weights(s)
+        weights = row_weights(s, solver.task.grip_shares())
         scale = np.array([GRAVITY / solver.strengths[j] for j in EFFORT_JOINTS])
         carries = model.ancestors[mass_link][:, effort_joints].T  # (E, P)
         outside = np.full((len(effort_joints), max(1, (~carries).sum(axis=1).max())), -1,

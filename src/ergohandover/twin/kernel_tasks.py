@@ -27,11 +27,13 @@ BALANCE_ROW, EFFORT_ROW, GAZE_ROW = 6, 8, 9
 JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
-def row_weights(settings) -> np.ndarray:
-    """(ROWS,) task weights in the kernel's row order."""
-    hand, palm = [settings.hand] * 3, [settings.palm] * 3
-    return np.array([*hand, *palm, settings.balance, settings.balance, settings.effort,
-                     settings.gaze, *hand, *palm])
+def row_weights(settings, takes: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
+    """(ROWS,) task weights in the kernel's row order; a hand whose share of the object
+    (``takes``: left, right) is zero has zero weights."""
+    left, right = (float(share > 0) for share in takes)
+    return np.array([*[settings.hand * left] * 3, *[settings.palm * left] * 3,
+                     settings.balance, settings.balance, settings.effort, settings.gaze,
+                     *[settings.hand * right] * 3, *[settings.palm * right] * 3])
 
 
 def effort_relations(ancestors: np.ndarray, children: np.ndarray,

@@ -3,8 +3,9 @@
 For each box location the worker grips both handles and takes the posture that minimises a
 weighted sum of squares:
 
-- **hands** (weight ``hand``): each grip point on its handle;
-- **palms** (``palm``): each palm's normal pointing at the box (medially);
+- **hands** (weight ``hand``): each grip point on its handle (with the task's ``hands`` one of
+  "right" or "left", that hand's grip point on the object's centre, and no task for the other);
+- **palms** (``palm``): each taking palm's normal pointing at the box (medially);
 - **gaze** (``gaze``): the box centre within 25° (eye rotation) of the head's natural line of
   sight, which is 15° below the head's horizontal (Grandjean); beyond that cone the head turns
   (only when the task's ``gaze`` is "on", the default);
@@ -210,7 +211,7 @@ class Solution(NamedTuple):
     """Solved postures of N box locations."""
 
     q: np.ndarray  # (N, nq) [rad]
-    hand_error: np.ndarray  # (N,) the worse hand's distance from its handle [m]
+    hand_error: np.ndarray  # (N,) the worse taking hand's distance from its grip point [m]
     com: np.ndarray  # (N, 3) centre of mass with the box, world frame [m]
     state: KinematicState  # forward kinematics of q
     cost: np.ndarray | None = None  # (N,) the solver's objective at q (None: not an optimiser's)
@@ -290,12 +291,17 @@ class PostureSolver:
 
     def cost(self, locations: np.ndarray, q: np.ndarray) -> np.ndarray:
         """(N,) the solver's objective at postures q (N, nq) for box ``locations`` (N, 3)."""
-        half = self.task.box_mass_kg / 2.0
         _, res, weight = stack_tasks(
             self.model.forward(q), self.targets(locations), self.weights, self.sight,
-            self.eye_cone, self.support, self.weights.balance_margin,
-            {"left_grip": half, "right_grip": half}, self.strengths, self.hamstring)
+            self.eye_cone, self.support, self.weights.balance_margin, self.grip_loads(),
+            self.strengths, self.hamstring, self.task.grip_shares())
         return self._cost(q, res, weight)
+
+    def grip_loads(self) -> dict[str, float]:
+        """The object's mass carried at each grip [kg] (the task's shares)."""
+        left, right = self.task.grip_shares()
+        return {"left_grip": self.task.box_mass_kg * left,
+                "right_grip": self.task.box_mass_kg * right}
 
     def solve(self, locations: np.ndarray) -> Solution:
         """Postures for box centres at ``locations`` (N, 3), worker frame [m]."""
@@ -324,15 +330,15 @@ class PostureSolver:
         """:meth:`iterate` batched in numpy: the reference implementation."""
         s = self.weights
         targets = self.targets(locations)
-        half = self.task.box_mass_kg / 2.0
-        extra = {"left_grip": half, "right_grip": half}
+        extra = self.grip_loads()
+        takes = self.task.grip_shares()
         max_step = np.radians(s.max_step_deg)
         lower, upper = self.model.lower, self.model.upper
 
         def tasks(q):
             return stack_tasks(self.model.forward(q), targets, s, self.sight, self.eye_cone,
                                self.support, s.balance_margin, extra, self.strengths,
-                               self.hamstring)
+                               self.hamstring, takes)
 
         q = np.array(start, dtype=float)
         jac, res, weight = tasks(q)
@@ -360,8 +366,9 @@ class PostureSolver:
             cost = np.where(better, cost_new, cost)
             lam = np.clip(np.where(better, lam * 0.3, lam * 10.0), 1e-6, 1e6)
         state = self.model.forward(q)
-        error = np.maximum(np.linalg.norm(state.point("left_grip") - targets.left, axis=1),
-                           np.linalg.norm(state.point("right_grip") - targets.right, axis=1))
+        error = np.max([np.linalg.norm(state.point(f"{side}_grip") - target, axis=1)
+                        for side, target, share in zip(("left", "right"), targets[:2], takes,
+                                                       strict=True) if share > 0], axis=0)
         return Solution(q, error, state.com(extra), state, cost)
 
     def _cost(self, q: np.ndarray, res: np.ndarray, weight: np.ndarray) -> np.ndarray:

@@ -17,6 +17,9 @@ from ..ranges import check_ranges, ranged
 from .anthropometry import BodySpec
 from .stance import STANCES
 
+HANDS = ("both", "right", "left")
+"""Which hand takes the object: both handles, or the right or left hand alone."""
+
 
 class TaskSpecError(ConfigError):
     """A task setting outside its valid range; the message is one line."""
@@ -38,11 +41,16 @@ class TaskSpec:
 
     ``stance``: "fixed" (the default, the paper's worker) keeps the feet where they stand;
     "step" lets the worker step toward the box first (:mod:`.stance`).
+
+    ``hands``: "both" (the default) grips the two handles; "right" or "left" takes the object
+    in that hand alone, its grip point at the object's centre (a bottle or a baton held round
+    its middle, the palm facing the midline) and the whole mass in that hand, while the other
+    arm holds only its own weight. :data:`OBJECTS` names a baton and a bottle beside the box.
     """
 
-    box_width: float = ranged(0.36, "box width, side to side [m]", 0.10, 1.00)
-    box_height: float = ranged(0.25, "box height [m]", 0.05, 1.00)
-    box_depth: float = ranged(0.30, "box depth, front to back [m]", 0.05, 1.00)
+    box_width: float = ranged(0.36, "box width, side to side [m]", 0.02, 1.00)
+    box_height: float = ranged(0.25, "box height [m]", 0.02, 1.00)
+    box_depth: float = ranged(0.30, "box depth, front to back [m]", 0.02, 1.00)
     box_mass_kg: float = ranged(6.0, "box mass [kg]", 0.0, 25.0)
     handle_span: float = ranged(0.40, "distance between the two handle grips [m]", 0.15, 1.10)
     coupling: int = ranged(0, "REBA coupling of the handles: 0 good ... 3 unacceptable", 0, 3)
@@ -52,17 +60,47 @@ class TaskSpec:
                        "('off')", choices=("on", "off"))
     stance: str = ranged("fixed", "the feet stay planted ('fixed', the paper's worker) or may "
                          "take one step toward the box ('step')", choices=STANCES)
+    hands: str = ranged("both", "which hand takes the object: both handles ('both') or one "
+                        "hand round the object's centre ('right', 'left')", choices=HANDS)
 
     def __post_init__(self):
         check_ranges(self, TaskSpecError)
-        if self.handle_span < self.box_width:
+        if self.hands == "both" and self.handle_span < self.box_width:
             raise TaskSpecError(f"handle_span = {self.handle_span!r} is outside the valid range: "
                                 f"at least box_width = {self.box_width!r}")
 
+    @classmethod
+    def holding(cls, name: str, **fields) -> TaskSpec:
+        """The task with object ``name`` of :data:`OBJECTS` (its size and mass), ``fields``
+        overriding."""
+        if name not in OBJECTS:
+            raise TaskSpecError(f"object = {name!r} is not allowed (use {', '.join(OBJECTS)})")
+        return cls(**{**OBJECTS[name], **fields})
+
+    def grip_shares(self) -> tuple[float, float]:
+        """The share of the object's weight in the left and the right hand; a hand with no
+        share has no grip task either."""
+        return {"both": (0.5, 0.5), "left": (1.0, 0.0), "right": (0.0, 1.0)}[self.hands]
+
     def handles(self, locations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Left and right handle grip points for box centres ``locations`` (N, 3) [m]."""
+        """Left and right grip points for box centres ``locations`` (N, 3) [m]: the handles,
+        or with one hand the object's centre for both (only the taking hand reaches it)."""
+        if self.hands != "both":
+            return locations.copy(), locations.copy()
         offset = np.array([self.handle_span / 2.0, 0.0, 0.0])
         return locations - offset, locations + offset  # left is -x in the worker frame
+
+
+OBJECTS: dict[str, dict[str, float]] = {
+    "box": {},
+    # A relay baton (Handovers@RPL's object): about 0.30 m long, 0.04 m across, 0.1 kg.
+    "baton": {"box_width": 0.04, "box_height": 0.30, "box_depth": 0.04, "box_mass_kg": 0.1},
+    # A filled half-litre bottle: 0.07 m across, 0.22 m tall, 0.55 kg.
+    "bottle": {"box_width": 0.07, "box_height": 0.22, "box_depth": 0.07,
+               "box_mass_kg": 0.55},
+}
+"""Objects the task can hold, as TaskSpec fields: the study's box (the defaults) and two small
+objects handed over in one hand, sized as common ones are."""
 
 
 @dataclass(frozen=True)

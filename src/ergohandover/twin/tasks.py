@@ -45,7 +45,8 @@ def cross_columns(vectors: np.ndarray, fixed: np.ndarray) -> np.ndarray:
 def stack_tasks(st: KinematicState, targets: Targets, weights, sight: np.ndarray,
                 eye_cone: float, support: tuple[float, float, float, float], margin: float,
                 extra: dict[str, float], strengths: dict[str, float],
-                hamstring: tuple[float, float, float]) -> Stack:
+                hamstring: tuple[float, float, float],
+                takes: tuple[float, float] = (0.5, 0.5)) -> Stack:
     """Every task of the handover posture.
 
     Args:
@@ -57,10 +58,12 @@ def stack_tasks(st: KinematicState, targets: Targets, weights, sight: np.ndarray
         eye_cone: eye rotation held without strain [rad].
         support: (x0, x1, y0, y1) feet's support rectangle, world frame [m].
         margin: how far inside the rectangle the balance hinge starts [m].
-        extra: point masses carried at links (the box, half in each hand) [kg].
+        extra: point masses carried at links (the object, shared by the taking hands) [kg].
         strengths: extensor strength of each of :data:`EFFORT_JOINTS` [N m].
         hamstring: the hamstrings' passive line, hip flexion at a straight knee [rad] and its
             slope per radian of knee flexion [1], and the strain per radian beyond it [1/rad].
+        takes: each hand's (left, right) share of the object; a hand without one keeps its
+            rows at zero weight (the kernel's row layout is the same for every task).
     """
     jacs, residuals, row_weights = [], [], []
 
@@ -69,15 +72,17 @@ def stack_tasks(st: KinematicState, targets: Targets, weights, sight: np.ndarray
         residuals.append(res)
         row_weights.append(np.full(res.shape[1], weight))
 
-    for side, target in (("left", targets.left), ("right", targets.right)):
-        grip = f"{side}_grip"
-        add(st.point_jacobian(grip), st.point(grip) - target, weights.hand)
+    for side, target, share in (("left", targets.left, takes[0]),
+                                ("right", targets.right, takes[1])):
+        grip, on = f"{side}_grip", float(share > 0)
+        add(st.point_jacobian(grip), st.point(grip) - target, weights.hand * on)
         # Palm normal n onto the medial direction d: residual n - d (zero only when they
         # agree), Jacobian w_j x n.
         hand = f"{side}_hand"
         normal = st.rotation(hand) @ np.array(PALM_NORMAL[side])  # (N, 3)
         medial = np.array([0.0, -1.0 if side == "left" else 1.0, 0.0])
-        add(cross_columns(st.angular_jacobian(hand), normal), normal - medial, weights.palm)
+        add(cross_columns(st.angular_jacobian(hand), normal), normal - medial,
+            weights.palm * on)
     # Gaze: only the angle between the line of sight and the box beyond the eyes' cone costs.
     look = targets.box - st.position("gaze")
     look /= np.linalg.norm(look, axis=1, keepdims=True)
