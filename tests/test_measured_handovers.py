@@ -96,6 +96,15 @@ def test_each_handover_comes_out_as_it_was_made(twin, derived):
     marker = points[RIGHT_HAND] + GRIP * np.array([-1.0, -1.0, 1.0])  # GRIP is in the world
     assert np.allclose(used["height_m"], marker[2], atol=2e-3)
     assert np.allclose(used["forward_m"], marker[0] - ankles[0], atol=2e-3)
+    # The receiving hand, where the twin's grip is put: the twin's own hand point.
+    hand = points[RIGHT_HAND]
+    assert np.allclose(used["hand_height_m"], hand[2], atol=2e-3)
+    assert np.allclose(used["hand_forward_m"], hand[0] - ankles[0], atol=2e-3)
+    assert np.allclose(used["hand_lateral_m"], hand[1] - ankles[1], atol=2e-3)
+    zed = FORMATS["zed34"]
+    shoulders = (points[zed.index("left_shoulder"), 2] + points[zed.index("right_shoulder"), 2]) / 2
+    heels = min(points[zed.index("left_heel"), 2], points[zed.index("right_heel"), 2])
+    assert np.allclose(used["shoulder_height_m"], shoulders - heels, atol=2e-3)
     for column in ("trunk_flexion", "neck_flexion", "right_elbow_flexion",
                    "right_upper_arm_flexion", "left_knee_flexion"):
         assert np.allclose(used[column], truth[column][0], atol=0.06), column

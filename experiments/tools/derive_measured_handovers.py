@@ -24,9 +24,11 @@ Definitions (one handover):
   layer's heading frame); height above the floor (z = 0 of the recording).
 - Object: its marker's forward and lateral offsets and height; also its height above the
   receiving elbow and shoulder and relative to the pelvis.
+- Receiving hand: its BODY_34 hand point in the same frame (``hand_*``), where the twin's grip
+  is put to predict the posture (the object's marker is not where the hand holds it).
 - Sizes: median over the recording of the receiver's segment lengths (the tracker's fixed-ratio
-  skeleton: they say more of the tracker than of the person) and the vertex-to-heel height in
-  frames where the knees are straight (standing).
+  skeleton: they say more of the tracker than of the person), and the head-point-to-heel and
+  shoulder-to-heel heights in frames where the knees are straight (standing).
 - Posture: the receiver's keypoints at the transfer frame through ``ergohandover.capture``
   (format zed34, up z); unseen columns are null; scores with no load known (the object's mass is
   not in the data set) as intervals.
@@ -90,6 +92,9 @@ def handover(path: Path) -> dict:
             frame, fmt.index(f"{side}_elbow"), 2],
         "above_shoulder_m": obj[frame, 2] - receiver[frame, fmt.index(f"{side}_shoulder"), 2],
         "pelvis_height_m": hips[2]}
+    hand = heading.T @ (points[HANDS[found.hand]] - hips) - ankles
+    location.update(hand_forward_m=hand[0], hand_lateral_m=hand[1],
+                    hand_height_m=points[HANDS[found.hand], 2])
     captured = capture(receiver[frame:frame + 1], fmt, "z")
     scores = capture_scores(captured)
     posture = {name: (None if captured.unseen[0, i] else round(float(
@@ -128,6 +133,9 @@ def _sizes(receiver: np.ndarray, fmt) -> dict[str, float]:
     heels = np.minimum(point("left_heel")[:, 2], point("right_heel")[:, 2])
     height = point("head")[:, 2] - heels
     sizes["head_to_heel_m"] = float(np.median(height[standing])) if standing.any() else None
+    shoulders = (point("left_shoulder")[:, 2] + point("right_shoulder")[:, 2]) / 2 - heels
+    sizes["shoulder_height_m"] = (float(np.median(shoulders[standing])) if standing.any()
+                                  else None)
     sizes["standing_frames"] = int(standing.sum())
     return {k: (round(v, 3) if isinstance(v, float) else v) for k, v in sizes.items()}
 
