@@ -22,6 +22,8 @@ Parts, in order:
   personalise   how many handovers each searcher needs to find one worker's own optimum
   capture       how well each keypoint format measures the twin, and its scores with
                 published angle errors
+  people        the twin beside 957 measured handovers: where people received, its posture
+                prediction, its recommendation against them, a fit of its weights held out
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
 Configurations (experiments/configs/, each what differs from the defaults in
@@ -68,16 +70,17 @@ STEPS = (*PARTS, "figures")
 ESTIMATE_S = {"default": {"landscape": 81, "baselines": 113, "ablations": 34,
                           "participants": 41, "population": 364, "sensitivity": 114,
                           "validation": 3, "robustness": 254, "stance": 21, "personalise": 209,
-                          "capture": 3, "figures": 24},
+                          "capture": 3, "people": 70, "figures": 24},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "capture": 9,
-                        "figures": 22}}
+                        "people": 15, "figures": 22}}
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
                 "validation": "fig_validation", "robustness": "fig_robustness",
-                "personalise": "fig_personalise", "capture": "fig_capture"}
+                "personalise": "fig_personalise", "capture": "fig_capture",
+                "people": "fig_people"}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 

@@ -23,6 +23,7 @@ sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 
 import capture_tables  # noqa: E402
 import learning_tables  # noqa: E402
+import people_tables  # noqa: E402
 import personalise_tables  # noqa: E402
 import population_tables  # noqa: E402
 import readme_blocks  # noqa: E402
@@ -38,11 +39,13 @@ def test_report_generated_blocks_are_the_committed_results():
             **robustness_tables.blocks(ROOT / "results"),
             **stance_tables.blocks(ROOT / "results"),
             **validation_tables.blocks(ROOT / "results"),
-            **capture_tables.blocks(ROOT / "results")}
+            **capture_tables.blocks(ROOT / "results"),
+            **people_tables.blocks(ROOT / "results")}
     for name, block in made.items():
         if name not in ("learning-claim", "learning-learns", "robustness-headline",
                         "personalise-headline", "stance-headline",  # the README's headline table
-                        "capture-claim"):  # and its paragraph on captured postures
+                        "capture-claim",  # and its paragraph on captured postures
+                        "people-headline"):
             assert readme_blocks.where(name) == REPORT_PATH, name
         assert readme_blocks.block(name) == block, name
 

@@ -12,7 +12,6 @@ configuration file that spells a default out and one that leaves it out are the 
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
 from pathlib import Path
 from typing import Any
@@ -26,6 +25,12 @@ from ..learning.targets import GOALS
 from ..twin.anthropometry import PERCENTILES, BodySpec
 from ..twin.evaluate import Evaluator
 from ..twin.task import TaskSpec
+from .config_measured import (
+    CaptureConfig,
+    PeopleConfig,
+    capture_code_version,
+    measured_data_version,
+)
 from .typed_json import from_json, setting, short
 from .workforce import Workforce
 
@@ -289,31 +294,6 @@ class StanceConfig:
     seed: int = setting(27, lo=0)
 
 
-@dataclasses.dataclass(frozen=True)
-class CaptureConfig:
-    """How well each keypoint format measures the twin (:mod:`..capture_accuracy`): the twin's
-    postures at ``postures`` locations drawn (seeded) from the landscape's feasible ones, each
-    measured ``draws`` times at every angle error SD of ``angle_sds``: 3.5° for pose models
-    trained on ergonomics data (VEHS-7M; Wen et al. 2025), 15° the median RMSE of markerless
-    joint angles against optical motion capture (46 people; Wang, Fethke & Baek)."""
-
-    postures: int = setting(1000, lo=1)
-    angle_sds: tuple[float, ...] = setting((0.0, 3.5, 15.0), lo=0, unit="deg")
-    draws: int = setting(20, lo=1)
-    seed: int = setting(40, lo=0)
-
-
-def capture_code_version() -> str:
-    """A hash of the capture layer's source (the capture part's results follow from it)."""
-    from .. import capture
-
-    digest = hashlib.sha256()
-    for path in sorted(Path(capture.__file__).parent.glob("*.py")):
-        digest.update(path.name.encode())
-        digest.update(path.read_bytes())
-    return digest.hexdigest()[:16]
-
-
 READS = {"baselines": ("learning",),
          "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
          "personalise": ("population",),
@@ -340,6 +320,7 @@ class StudyConfig:
     personalise: PersonaliseConfig = setting(PersonaliseConfig())
     stance: StanceConfig = setting(StanceConfig())
     capture: CaptureConfig = setting(CaptureConfig())
+    people: PeopleConfig = setting(PeopleConfig())
 
     def __post_init__(self):
         learning = self.learning
@@ -398,11 +379,13 @@ class StudyConfig:
         """What a part's results depend on (hashed into its manifest): its own section and, for
         every part after it, the landscape's (they all read the landscape) and those of the
         parts whose results it reads (:data:`READS`); for the capture part also the capture
-        layer's code."""
+        layer's code, for the people part the measured handovers' derived figures."""
         sections = (part,) if part == "landscape" else (part, "landscape", *READS.get(part, ()))
         inputs = {name: dataclasses.asdict(getattr(self, name)) for name in sections}
         if part == "capture":  # its results are the capture layer's arithmetic
             inputs["capture_code"] = capture_code_version()
+        if part == "people":  # its results are the derived figures' comparison with the twin
+            inputs["measured_data"] = measured_data_version()
         return inputs
 
     def task(self, gaze: str | None = None, stance: str = "fixed") -> TaskSpec:
