@@ -13,7 +13,8 @@ from readme_blocks import rewrite
 QUANTITIES = {"trunk_inclination_deg": "trunk inclination",
               "upper_arm_elevation_trunk_deg": "upper-arm elevation from the trunk",
               "elbow_flexion_deg": "elbow flexion"}
-PLACEMENTS = {"object": "box where the object was", "hand": "box at the receiving hand"}
+PLACEMENTS = {"object": "box where the object was", "hand": "box at the receiving hand",
+              "baton": "baton in the receiving hand where the object was"}
 SCORES = {"paper_postural_score": "postural score", "reba_score": "REBA", "rula_score": "RULA"}
 
 
@@ -36,8 +37,12 @@ def handover_table(table: pd.DataFrame) -> list[str]:
                 cells.append("not recorded")
         for score in SCORES:
             r = rows.loc[score]
-            cells.append(f"{r.twin:.0f} / {r.twin_optimum:.0f} ({r.share_better:.0%})"
-                         if r.feasible else "infeasible")
+            if not r.feasible:
+                cells.append("infeasible")
+            elif r.twin_optimum != r.twin_optimum:  # another task: no optimum to compare
+                cells.append(f"{r.twin:.0f} / – (another task)")
+            else:
+                cells.append(f"{r.twin:.0f} / {r.twin_optimum:.0f} ({r.share_better:.0%})")
         name = handover.split("/")[0]
         lines.append(f"| {name} | {PLACEMENTS[placement]} ({first.x:.3f}, {first.y:.3f}, "
                      f"{first.z:.3f}) | " + " | ".join(cells) + " |")

@@ -9,11 +9,14 @@ upper-arm elevation and elbow flexion.
 
 The twin is put where the receiver took the object, in its own frame (the pelvis taken as
 standing above the middle of the feet, which the data cannot check: the legs are not tracked),
-and solved holding the study's box there, two ways:
+and solved there three ways:
 
-* ``object``: the box's centre at the object's centre, laterally where the object was;
-* ``hand``: the box's centre at the receiving wrist's height and reach, on the midline (where
-  the twin's hands would be, holding a box in front of it).
+* ``object``: the study's box, its centre at the object's centre, laterally where the object
+  was;
+* ``hand``: the study's box, its centre at the receiving wrist's height and reach, on the
+  midline (where the twin's hands would be, holding a box in front of it);
+* ``baton``: as the receiver did, a baton taken in the receiving hand alone, its grip at the
+  object's centre (scores not compared with the box's landscape: another task).
 
 The twin is sized like the data set's participants: a man of their mean stature (the
 recordings do not say who received), the rest of the body from the survey's body model. Its
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +38,7 @@ from ..landscape.cache import Landscape
 from ..landscape.stats import optimum
 from ..twin.anthropometry import BodySpec
 from ..twin.evaluate import Evaluator, evaluate
+from ..twin.task import TaskSpec
 from .validation import MEASURES, elevation
 
 REFERENCE = Path(__file__).with_name("handover_reference.json")
@@ -60,8 +65,8 @@ def placements(handover: dict) -> dict[str, np.ndarray | None]:
     wrist = handover["positions"][f"wrist_{side}"]
     hand = None if wrist["height_m"] is None else \
         np.array([0.0, wrist["height_m"], wrist["forward_m"]])
-    return {"object": np.array([-obj["left_m"], obj["height_m"], obj["forward_m"]]),
-            "hand": hand}
+    at_object = np.array([-obj["left_m"], obj["height_m"], obj["forward_m"]])
+    return {"object": at_object, "hand": hand, "baton": at_object}
 
 
 def twin_angles(row: pd.Series, side: str) -> dict[str, float]:
@@ -94,12 +99,15 @@ def handover_table(evaluator: Evaluator, landscape: Landscape,
     rows = []
     for handover in data["handovers"]:
         side = handover["hand"]
+        one_hand = replace(evaluator, task=TaskSpec.holding(
+            "baton", hands=side, gaze=evaluator.task.gaze))
         for placement, point in placements(handover).items():
             if point is None:
                 continue
             base = {"handover": handover["id"], "hand": side, "placement": placement,
                     **dict(zip("xyz", np.round(point, 3).tolist(), strict=True))}
-            row = evaluate(point[None], evaluator).iloc[0]
+            twin_of = one_hand if placement == "baton" else evaluator
+            row = evaluate(point[None], twin_of).iloc[0]
             feasible = bool(row["feasible"])
             twin = twin_angles(row, side) if feasible else {}
             for quantity, measured in measured_angles(handover).items():
@@ -111,7 +119,10 @@ def handover_table(evaluator: Evaluator, landscape: Landscape,
                              "feasible": int(feasible)})
             for score, (best, feasible_values) in own.items():
                 here = int(row[score]) if feasible else math.nan
-                better = float(np.mean(feasible_values < here)) if feasible else math.nan
+                if placement == "baton":  # the box's landscape is another task's
+                    best, better = math.nan, math.nan
+                else:
+                    better = float(np.mean(feasible_values < here)) if feasible else math.nan
                 rows.append({**base, "quantity": f"{score}_score", "measured": math.nan,
                              "twin": here, "difference": here - best if feasible else math.nan,
                              "feasible": int(feasible), "twin_optimum": best,
