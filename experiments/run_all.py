@@ -67,10 +67,10 @@ STEPS = (*PARTS, "figures")
 # estimate printed at the start; parts already finished are not counted. The learning part
 # estimates itself from its configuration. Default: the committed run's manifests (a test
 # keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 81, "baselines": 113, "ablations": 34,
-                          "participants": 41, "population": 364, "sensitivity": 114,
-                          "validation": 3, "robustness": 254, "stance": 21, "personalise": 209,
-                          "capture": 3, "people": 70, "figures": 24},
+ESTIMATE_S = {"default": {"landscape": 87, "baselines": 107, "ablations": 33,
+                          "participants": 40, "population": 280, "sensitivity": 93,
+                          "validation": 7, "robustness": 209, "stance": 15, "personalise": 207,
+                          "capture": 1, "people": 66, "figures": 24},
               "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
                         "population": 13, "sensitivity": 50, "validation": 1,
                         "robustness": 63, "stance": 10, "personalise": 8, "capture": 9,

@@ -57,7 +57,7 @@ def headline(results: Path) -> str:
             f"places apart), a median {100 * paper['distance_median_m']:.0f} cm (quartiles "
             f"{100 * paper['distance_p25_m']:.0f}–{100 * paper['distance_p75_m']:.0f}) from "
             f"the paper score's ({int(paper['optimum'])}), where the twin scores "
-            f"{paper['twin_there_median']:g} and people's own measured posture "
+            f"{paper['twin_there_median']:g} and people's own measured posture scores "
             f"{_span(paper)}; {fit_clause(data)}")
 
 
