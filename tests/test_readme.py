@@ -16,6 +16,7 @@ RESULTS = ROOT / "results"
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 
 import learning_tables  # noqa: E402
+import people_tables  # noqa: E402
 import personalise_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
@@ -227,6 +228,8 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     block = stance_tables.blocks(RESULTS)["stance-headline"]
     rows["a worker who steps"] = ([], [f"<!-- stance-headline -->{block}"
                                        f"<!-- /stance-headline -->"])
+    block = people_tables.blocks(RESULTS)["people-headline"]
+    rows["beside people"] = ([], [f"<!-- people-headline -->{block}<!-- /people-headline -->"])
     block = personalise_tables.blocks(RESULTS)["personalise-headline"]
     rows["personalising"] = ([], [f"<!-- personalise-headline -->{block}"
                                   f"<!-- /personalise-headline -->"])
