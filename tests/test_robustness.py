@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from ergohandover.ergonomics import POSTURE_COLUMNS, Posture, score_postures
+from ergohandover.ergonomics import POSTURE_COLUMNS, Posture, ScoringSettings, score_postures
 from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import optimum
@@ -286,3 +286,40 @@ def test_the_committed_robustness_results_answer_the_questions_asked():
     assert (carries.loc[served, "clearance_m"] > 0).all()
     assert carries.loc[~served, "robot_reason"].notna().all()  # why not, where not served
     assert carries.loc[served, "robot_reason"].isna().all()
+
+
+STRICT = ScoringSettings(abduction_from_deg=0.0, twist_from_deg=0.0, side_bend_from_deg=0.0)
+"""Scoring settings that score the upright posture differently from the defaults."""
+
+
+def test_scoring_settings_reach_every_scorer_under_error(small_landscape, monkeypatch):
+    posture = upright(left_upper_arm_abduction=3.0, trunk_twist=2.0, trunk_side_bend=2.0)
+    strict, default = score_postures(posture, STRICT), score_postures(posture)
+    assert any(strict[s][0] != default[s][0] for s in ("reba", "rula", "paper_postural"))
+    still = ErrorModel(0.0)
+    found = monte_carlo(posture, still, 3, np.random.default_rng(0), settings=STRICT)
+    for score in ("reba", "rula", "paper_postural"):
+        assert found.nominal[score][0] == strict[score][0]
+        assert found.mean[score][0] == strict[score][0]
+        assert expected_scores(posture, still, 3, 0, score, STRICT)[0] == strict[score][0]
+    assert not np.array_equal(margins(posture, settings=STRICT)["reba"],
+                              margins(posture)["reba"], equal_nan=True)
+    # The searches score with the evaluator's own settings.
+    import ergohandover.robustness.search as search
+
+    seen = []
+
+    def recording(real):
+        def scorer(*args):
+            seen.append(args[-1])  # the settings: the last argument of both scorers
+            return real(*args)
+        return scorer
+
+    for name in ("expected_scores", "smallest_margin"):
+        monkeypatch.setattr(search, name, recording(getattr(search, name)))
+    evaluator, landscape = small_landscape
+    strict_twin = Evaluator(evaluator.body, evaluator.task, scoring=STRICT)
+    robust_optimum(landscape, strict_twin, still, "paper_postural", 2, 0, stride=2,
+                   screen_draws=2, keep=1, radius=0)
+    search.largest_margin(landscape, strict_twin, "paper_postural", stride=2, keep=1, radius=0)
+    assert seen and all(s is STRICT for s in seen)

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from ..ergonomics import Posture, score_postures
+from ..ergonomics import Posture, ScoringSettings, score_postures
 from .posture_error import ANGLE_COLUMNS, SCORES
 
 STEP_DEG = 0.25
@@ -30,7 +30,8 @@ def _moves() -> np.ndarray:
 
 
 def margins(posture: Posture, scores: Sequence[str] = SCORES,
-            columns: Sequence[str] = ANGLE_COLUMNS) -> dict[str, np.ndarray]:
+            columns: Sequence[str] = ANGLE_COLUMNS,
+            settings: ScoringSettings | None = None) -> dict[str, np.ndarray]:
     """The margin of each angle of each posture to a change of each score.
 
     Returns:
@@ -41,7 +42,7 @@ def margins(posture: Posture, scores: Sequence[str] = SCORES,
     moves = _moves()
     block = len(columns) * len(moves)  # rows per posture
     per_chunk = max(1, CHUNK_ROWS // block)
-    nominal = score_postures(posture, names=scores)
+    nominal = score_postures(posture, settings, names=scores)
     out = {s: np.empty((posture.n, len(columns))) for s in scores}
     for start in range(0, posture.n, per_chunk):
         index = np.arange(start, min(start + per_chunk, posture.n))
@@ -53,7 +54,7 @@ def margins(posture: Posture, scores: Sequence[str] = SCORES,
                 shift[list(columns).index(name)] = moves
                 repeated = np.clip(repeated + np.tile(shift.ravel(), len(index)), -180, 180)
             rows[name] = repeated
-        moved = score_postures(Posture(rows), names=scores)
+        moved = score_postures(Posture(rows), settings, names=scores)
         for s in scores:
             changed = (moved[s].reshape(len(index), len(columns), len(moves))
                        != nominal[s][index, None, None])
@@ -62,12 +63,12 @@ def margins(posture: Posture, scores: Sequence[str] = SCORES,
     return out
 
 
-def margin_table(posture: Posture, names: Sequence[str],
-                 scores: Sequence[str] = SCORES) -> pd.DataFrame:
+def margin_table(posture: Posture, names: Sequence[str], scores: Sequence[str] = SCORES,
+                 settings: ScoringSettings | None = None) -> pd.DataFrame:
     """One row per posture, angle and score: ``location, angle, value, score, margin_deg``
     (the posture's own angle [deg] and its margin; empty when no move within
     :data:`REACH_DEG` changes the score)."""
-    found = margins(posture, scores)
+    found = margins(posture, scores, settings=settings)
     frames = []
     for s in scores:
         frames.append(pd.DataFrame({
@@ -78,9 +79,10 @@ def margin_table(posture: Posture, names: Sequence[str],
     return pd.concat(frames, ignore_index=True)
 
 
-def smallest_margin(posture: Posture, score: str) -> np.ndarray:
+def smallest_margin(posture: Posture, score: str,
+                    settings: ScoringSettings | None = None) -> np.ndarray:
     """(N,) each posture's smallest margin over its angles for one score [deg]
     (:data:`REACH_DEG` when no angle's move changes it)."""
-    found = margins(posture, (score,))[score]
+    found = margins(posture, (score,), settings=settings)[score]
     return np.nan_to_num(np.nanmin(np.where(np.isnan(found), REACH_DEG, found), axis=1),
                          nan=REACH_DEG)

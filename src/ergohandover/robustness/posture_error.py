@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..ergonomics import OBJECTIVES, Posture, score_postures
+from ..ergonomics import OBJECTIVES, Posture, ScoringSettings, score_postures
 from ..ergonomics.posture import COLUMNS, SIDES
 from ..errors import ConfigError
 
@@ -141,7 +141,8 @@ def _quantile(values: np.ndarray, q: float) -> np.ndarray:
 
 
 def monte_carlo(posture: Posture, model: ErrorModel, draws: int, rng: np.random.Generator,
-                scores: Sequence[str] = SCORES, keep: bool = False) -> MonteCarlo:
+                scores: Sequence[str] = SCORES, keep: bool = False,
+                settings: ScoringSettings | None = None) -> MonteCarlo:
     """The distribution of each score of each posture under the error model.
 
     Args:
@@ -151,17 +152,18 @@ def monte_carlo(posture: Posture, model: ErrorModel, draws: int, rng: np.random.
         rng: the generator of the errors (the caller owns the seed).
         scores: the scores to summarise.
         keep: keep every measured score (``values``; N x draws each) for comparisons.
+        settings: the scoring settings (the evaluator's, where the postures are a twin's).
     """
     if draws < 1:
         raise ConfigError(f"draws = {draws!r} is not allowed (an integer >= 1)")
-    nominal = score_postures(posture)
+    nominal = score_postures(posture, settings)
     items = item_columns(nominal)
     per_chunk = max(1, CHUNK_POSTURES // draws)
     parts: dict[str, list[np.ndarray]] = {s: [] for s in scores}
     flips: dict[str, list[np.ndarray]] = {i: [] for i in items}
     for start in range(0, posture.n, per_chunk):
         index = np.arange(start, min(start + per_chunk, posture.n))
-        measured = score_postures(perturbed(posture.take(index), model, draws, rng))
+        measured = score_postures(perturbed(posture.take(index), model, draws, rng), settings)
         for s in scores:
             parts[s].append(measured[s].reshape(len(index), draws))
         for i in items:
@@ -181,7 +183,8 @@ def monte_carlo(posture: Posture, model: ErrorModel, draws: int, rng: np.random.
 
 
 def expected_scores(posture: Posture, model: ErrorModel, draws: int, seed: int,
-                    score: str = "paper_postural") -> np.ndarray:
+                    score: str = "paper_postural",
+                    settings: ScoringSettings | None = None) -> np.ndarray:
     """Each posture's expected ``score`` under the error model, every posture measured with
     the same ``draws`` errors (common random numbers: differences between postures are far
     more precise than each mean), for ranking many locations."""
@@ -193,6 +196,6 @@ def expected_scores(posture: Posture, model: ErrorModel, draws: int, seed: int,
         columns = {name: _measured(values, errors[name], draws, tile=True) if name in errors
                    else np.repeat(values, draws)
                    for name, values in posture.take(index).items()}
-        measured = score_postures(Posture(columns), names=(score,))[score]
+        measured = score_postures(Posture(columns), settings, names=(score,))[score]
         out[index] = measured.reshape(len(index), draws).mean(axis=1)
     return out

@@ -101,7 +101,7 @@ def robust_optimum(landscape: Landscape, evaluator: Evaluator, model: ErrorModel
     cells = cells[feasible[cells]]
     posture, ok = postures_at(grid.coordinates(cells), evaluator, workers)
     expected = np.where(ok, expected_scores(posture, model, screen_draws, int(screen_seed),
-                                            score), np.inf)
+                                            score, evaluator.scoring), np.inf)
     nominal = landscape.arrays[score][cells]
     screened = pd.DataFrame({"cell": cells, **dict(zip("xyz", grid.coordinates(cells).T,
                                                        strict=True)),
@@ -111,7 +111,8 @@ def robust_optimum(landscape: Landscape, evaluator: Evaluator, model: ErrorModel
     fine = neighbours(grid, np.concatenate([best, extra]), radius)
     fine = fine[feasible[fine]]
     posture, ok = postures_at(grid.coordinates(fine), evaluator, workers)
-    value = np.where(ok, expected_scores(posture, model, draws, int(fine_seed), score), np.inf)
+    value = np.where(ok, expected_scores(posture, model, draws, int(fine_seed), score,
+                                         evaluator.scoring), np.inf)
     cell = _choose(grid, fine, value, landscape.arrays[score][fine])
     return Search(cell, grid.coordinates([cell])[0], float(value[fine == cell][0]), screened)
 
@@ -128,14 +129,14 @@ def largest_margin(landscape: Landscape, evaluator: Evaluator, score: str, strid
     if cells.size == 0:  # the minimum lies between the coarse cells: search all its cells
         cells = np.flatnonzero(at_min)
     posture, ok = postures_at(grid.coordinates(cells), evaluator, workers)
-    margin = np.where(ok, smallest_margin(posture, score), -np.inf)
+    margin = np.where(ok, smallest_margin(posture, score, evaluator.scoring), -np.inf)
     screened = pd.DataFrame({"cell": cells, **dict(zip("xyz", grid.coordinates(cells).T,
                                                        strict=True)),
                              "nominal": values[cells], "value": margin})
     fine = neighbours(grid, cells[np.argsort(-margin, kind="stable")[:keep]], radius)
     fine = fine[at_min[fine]]
     posture, ok = postures_at(grid.coordinates(fine), evaluator, workers)
-    margin = np.where(ok, smallest_margin(posture, score), -np.inf)
+    margin = np.where(ok, smallest_margin(posture, score, evaluator.scoring), -np.inf)
     cell = _choose(grid, fine, -margin, values[fine])
     return Search(cell, grid.coordinates([cell])[0], float(margin[fine == cell][0]), screened)
 

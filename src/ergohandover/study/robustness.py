@@ -95,7 +95,8 @@ def recommendations(landscape: Landscape, evaluator: Evaluator, part: Robustness
     if not feasible.all():
         raise RuntimeError(f"the twin cannot take the box at {where[~feasible]}")
     found = monte_carlo(posture, ErrorModel(part.robust_sd, part.structure), part.draws,
-                        np.random.default_rng(seed)).table(where["location"])
+                        np.random.default_rng(seed),
+                        settings=evaluator.scoring).table(where["location"])
     table = where.merge(found, on="location").assign(angle_sd_deg=part.robust_sd)
     return table[["location", "x", "y", "z", "score", "angle_sd_deg", "nominal", "mean",
                   "p_nominal_or_better", "q05", "q95", "draws"]]
@@ -110,7 +111,7 @@ def robust_pair(landscape: Landscape, evaluator: Evaluator, part: RobustnessConf
                                             part.worker_draws, stride, keep=8, radius=1)
     posture, _ = postures_at(np.stack([nominal, robust.location]), evaluator)
     expected = expected_scores(posture, ErrorModel(part.robust_sd, part.structure),
-                               part.worker_draws, seed)
+                               part.worker_draws, seed, settings=evaluator.scoring)
     robust_score = landscape.arrays[ROBUST_SCORE][landscape.grid.nearest_cell(robust.location)]
     return {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
             "nominal_score": own_minimum(landscape, ROBUST_SCORE),

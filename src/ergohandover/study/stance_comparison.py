@@ -72,7 +72,7 @@ def under_posture_error(named: pd.DataFrame, evaluators: dict[str, Evaluator],
                                f"{named['location'][~feasible].tolist()}")
         for sd, sd_seed in zip(angle_sds, seeds, strict=True):
             mc = monte_carlo(posture, ErrorModel(sd), draws, np.random.default_rng(sd_seed),
-                             keep=True)
+                             keep=True, settings=evaluator.scoring)
             for k in others:
                 for score in SCORES:
                     rows.append({"stance": stance, "start": named["start"].iloc[k],

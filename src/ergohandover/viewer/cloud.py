@@ -46,7 +46,8 @@ def expected_cloud(cloud: Cloud, evaluator: Evaluator, sd_deg: float, seed: int 
     Gaussian error of ``sd_deg`` (the robustness part's model; every cell measured with the
     same errors, so that neighbours compare fairly)."""
     posture, feasible = postures_at(world_to_worker(cloud.points.astype(float)), evaluator)
-    values = expected_scores(posture, ErrorModel(sd_deg), EXPECTED_DRAWS, seed)
+    values = expected_scores(posture, ErrorModel(sd_deg), EXPECTED_DRAWS, seed,
+                             settings=evaluator.scoring)
     return Cloud(cloud.points[feasible], values[feasible], cloud.stride)
 
 

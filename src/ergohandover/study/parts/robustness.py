@@ -82,7 +82,8 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
                    rngs: list[np.random.Generator]) -> dict[str, pd.DataFrame]:
     """The headline locations under posture error: their score distributions, item flips and
     margins, and the comparisons between them (every SD of the configuration)."""
-    posture, feasible = postures_at(named[["x", "y", "z"]].to_numpy(float), config.evaluator())
+    evaluator = config.evaluator()
+    posture, feasible = postures_at(named[["x", "y", "z"]].to_numpy(float), evaluator)
     if not feasible.all():
         bad = named["location"][~feasible].tolist()
         raise RuntimeError(f"the twin cannot take the box at {bad}")
@@ -92,7 +93,8 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
     index = {name: i for i, name in enumerate(named["location"])}
     for sd, rng in tqdm(list(zip(part.angle_sds, rngs, strict=True)), desc="posture error",
                         unit="SD"):
-        mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.draws, rng, keep=True)
+        mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.draws, rng, keep=True,
+                         settings=evaluator.scoring)
         table = mc.table(named["location"]).merge(named, on="location")
         tables.append(table.assign(angle_sd_deg=sd, structure=part.structure))
         for item, share in mc.flips.items():
@@ -108,7 +110,8 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
                "mean", "mean_se", "p_nominal_or_better", "q05", "q95", "draws"]
     return {"locations": pd.concat(tables, ignore_index=True)[columns],
             "flips": pd.concat(flips, ignore_index=True),
-            "margins": margin_table(posture, named["location"]).merge(
+            "margins": margin_table(posture, named["location"],
+                                    settings=evaluator.scoring).merge(
                 named, on="location"),
             "comparisons": pd.DataFrame(compared)}
 

@@ -182,7 +182,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
         row = []
         for sd in POPULATION_SDS:
             mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.worker_draws, rng,
-                             scores=("paper_postural",))
+                             scores=("paper_postural",), settings=evaluators[w].scoring)
             row.append(np.where(feasible, mc.mean["paper_postural"], np.nan))
         expected.append(row)
     expected = np.array(expected)  # (workers, SDs, locations)
