@@ -141,3 +141,31 @@ def test_modules_stay_a_few_hundred_lines():
     for path in [*PACKAGE.rglob("*.py"), *EXPERIMENTS.rglob("*.py")]:
         lines = len(path.read_text().splitlines())
         assert lines <= 450, f"{path.relative_to(ROOT)} has {lines} lines"
+
+
+NOT_ERRORS = {"ergohandover.executor.Stopped": "a stop signal: a KeyboardInterrupt, so that every "
+              "layer unwinds as on Ctrl-C and the command exits 130 or 143, not 2",
+              "ergohandover.learning.env_searches._Spent": "private control flow: a spent "
+              "budget ends an agent's run inside the adapter and never leaves it"}
+"""Exception classes that are not errors, with the reason."""
+
+
+def test_every_error_of_the_package_derives_from_one_base():
+    import importlib
+    import inspect
+    import pkgutil
+
+    import ergohandover
+    from ergohandover.errors import ErgohandoverError
+
+    found = []
+    for info in pkgutil.walk_packages(ergohandover.__path__, "ergohandover."):
+        if info.name.endswith("__main__"):  # running it is what importing it does
+            continue
+        module = importlib.import_module(info.name)
+        for name, cls in inspect.getmembers(module, inspect.isclass):
+            if cls.__module__ == module.__name__ and issubclass(cls, BaseException):
+                found.append(f"{module.__name__}.{name}")
+                if f"{module.__name__}.{name}" not in NOT_ERRORS:
+                    assert issubclass(cls, ErgohandoverError), f"{module.__name__}.{name}"
+    assert set(NOT_ERRORS) <= set(found)  # an exemption for a class that is gone is stale

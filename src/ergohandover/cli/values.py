@@ -18,8 +18,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..errors import ErgohandoverError
 
-class BadValue(argparse.ArgumentTypeError):
+
+class BadValue(ErgohandoverError, argparse.ArgumentTypeError):
     """A value a flag does not accept: ``text`` as typed and the ``problem`` with it."""
 
     def __init__(self, text: str, problem: str):

@@ -28,6 +28,7 @@ import numpy as np
 from tqdm import tqdm
 
 from .. import __version__
+from ..errors import ErgohandoverError
 from ..executor import Executor
 from ..io.atomic import atomic_write
 from ..twin.evaluate import Evaluator, evaluate_arrays
@@ -55,7 +56,7 @@ STOP_AFTER_CHUNKS: int | None = None
 """Test hook: stop (raising :class:`SweepInterrupted`) after computing this many chunks."""
 
 
-class SweepInterrupted(RuntimeError):
+class SweepInterrupted(ErgohandoverError, RuntimeError):
     """The sweep stopped early by :data:`STOP_AFTER_CHUNKS`, as a kill would (tests only)."""
 
 
