@@ -219,6 +219,7 @@ def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, t
             assert all(t == round(t) for t in locations), f"{name} {axis}: {locations}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("script", ["fig_population", "fig_baselines"])
 def test_a_rerun_writes_the_same_bytes(script, tmp_path):
     # population_penalties jitters; baselines_boxplot dodges: both seeded or fixed.

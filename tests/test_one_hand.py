@@ -31,7 +31,9 @@ def test_the_taking_hand_reaches_the_object_and_the_other_hangs_free(right):
     assert (right["hand_error_m"] < 0.002).all()
     # The free arm holds nothing: it stays near its neutral, the upper arm down by the side.
     assert (right["left_upper_arm_flexion"].abs() < 25).all()
-    solution = PostureSolver(task=TaskSpec.holding("bottle", hands="right")).solve(POINTS)
+    solver = PostureSolver(task=TaskSpec.holding("bottle", hands="right"))
+    solution = solver.iterate(POINTS, np.tile(solver.strategy_start("stoop"), (len(POINTS), 1)),
+                              100)
     free = np.linalg.norm(solution.state.point("left_grip") - worker_to_world(POINTS), axis=1)
     assert (free > 0.15).all()
 
@@ -64,7 +66,8 @@ def test_the_object_weighs_on_the_taking_side_only():
         for mass in (0.0, 10.0):
             solver = PostureSolver(task=TaskSpec.holding("bottle", hands=hands,
                                                          box_mass_kg=mass))
-            solution = solver.solve(point)
+            # From standing, as the lattice's nodes are solved (no lattice needed for one).
+            solution = solver.iterate(point, solver.strategy_start("stoop")[None], 100)
             com[hands, mass] = solution.com[0]
             state = solution.state
             # The weight is where the taking hand is: the centre of mass moves toward it.

@@ -48,6 +48,7 @@ def test_a_carry_blocked_by_the_worker_goes_around_it(detour):
         assert detour.clearance_m > 0.0
 
 
+@pytest.mark.slow
 def test_the_path_file_replays_in_plain_pybullet_without_collision_or_jumps(detour, tmp_path):
     with World() as world:
         table = path_table(world, detour)

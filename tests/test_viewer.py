@@ -228,6 +228,7 @@ def test_a_carry_plays_back_its_path(viewer):
                for n in robot), "the robot's links moved with the carry"
 
 
+@pytest.mark.slow
 @needs_browser
 def test_the_browser_shows_the_worker_the_robot_and_a_coloured_landscape(viewer, browser,
                                                                            tmp_path):
@@ -255,6 +256,7 @@ def test_the_browser_shows_the_worker_the_robot_and_a_coloured_landscape(viewer,
     assert shirt(without).sum() > 2000, "the worker stayed"
 
 
+@pytest.mark.slow
 @needs_browser
 def test_a_move_through_the_api_changes_the_score_the_page_shows(viewer, browser):
     viewer.move_to(GOOD)
@@ -265,6 +267,7 @@ def test_a_move_through_the_api_changes_the_score_the_page_shows(viewer, browser
     assert "infeasible" in second and "paper <strong>" not in second
 
 
+@pytest.mark.slow
 @needs_browser
 @pytest.mark.skipif(not PATHS.is_dir(), reason="no committed carries")
 def test_an_exported_recording_opens_in_a_browser_without_the_server(tmp_path, browser):
