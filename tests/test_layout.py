@@ -169,3 +169,8 @@ def test_every_error_of_the_package_derives_from_one_base():
                 if f"{module.__name__}.{name}" not in NOT_ERRORS:
                     assert issubclass(cls, ErgohandoverError), f"{module.__name__}.{name}"
     assert set(NOT_ERRORS) <= set(found)  # an exemption for a class that is gone is stale
+
+
+def test_each_study_part_has_one_door():
+    """``run_all.py --only PART`` runs a part; no script of its own beside it."""
+    assert not sorted(p.name for p in EXPERIMENTS.glob("study_*.py"))

@@ -95,8 +95,9 @@ def test_the_manifest_records_the_seed_and_each_searchers_time():
 
 
 def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
-    done = subprocess.run([sys.executable, "experiments/study_personalise.py", "--set",
-                           'personalise.budget_caps={"nope": 5}', "--results", str(tmp_path)],
+    done = subprocess.run([sys.executable, "experiments/run_all.py", "--only", "personalise",
+                           "--set", 'personalise.budget_caps={"nope": 5}', "--results",
+                           str(tmp_path)],
                           cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 2
     assert done.stderr.strip().count("\n") == 0 and "'nope' names no searcher" in done.stderr

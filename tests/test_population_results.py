@@ -87,14 +87,14 @@ def test_the_report_population_blocks_are_the_committed_results():
 
 
 @pytest.mark.parametrize(("command", "message"), [
-    (["experiments/study_population.py", "--set", "population.size=0"],
-     "study_population: error: population.size = 0 is outside the valid range"),
-    (["experiments/study_population.py", "--engine", "ray", "--address", "nonsense"],
-     "study_population: error: address = 'nonsense' is not valid"),
+    (["experiments/run_all.py", "--only", "population", "--set", "population.size=0"],
+     "run_all: error: population.size = 0 is outside the valid range"),
+    (["experiments/run_all.py", "--only", "population", "--engine", "ray", "--address",
+      "nonsense"], "run_all: error: address = 'nonsense' is not valid"),
     (["experiments/run_all.py", "--only", "population", "--engine", "ray", "--address",
       "host:port"], "run_all: error: address = 'host:port' is not valid"),
-    (["experiments/study_population.py", "--config", "no/such/config.json"],
-     "study_population: error: config = 'no/such/config.json' is not a readable JSON file"),
+    (["experiments/run_all.py", "--only", "population", "--config", "no/such/config.json"],
+     "run_all: error: config = 'no/such/config.json' is not a readable JSON file"),
 ])
 def test_bad_population_input_is_one_line_and_writes_nothing(tmp_path, command, message):
     out = subprocess.run([sys.executable, str(ROOT / command[0]), *command[1:], "--results",

@@ -1,7 +1,7 @@
-"""The command line of the study's scripts: ``experiments/run_all.py`` and the one-part scripts
-``experiments/study_<part>.py`` take the same options for the configuration (``--config``,
-``--set KEY=VALUE``), the results folder and the engine (``--workers``, ``--engine``,
-``--address``); a bad value is one line and exit code 2, before anything is written."""
+"""The study's command line (``experiments/run_all.py``): the options for the configuration
+(``--config``, ``--set KEY=VALUE``), the results folder and the engine (``--workers``,
+``--engine``, ``--address``); a bad value is one line and exit code 2, before anything is
+written."""
 
 from __future__ import annotations
 
@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 from ..errors import ErgohandoverError
-from ..executor import clean_stop
 from .config import StudyConfig
 from .engines import ENGINES, Engine
 
@@ -58,19 +57,3 @@ def fail(exc: ErgohandoverError) -> None:
     """One line on standard error and exit code 2."""
     print(f"{Path(sys.argv[0]).stem}: error: {exc}", file=sys.stderr)
     sys.exit(2)
-
-
-def study_main(name: str, doc: str) -> None:
-    """Run one part alone (always, even if finished) from the command line."""
-    from .parts import part
-
-    parser = argparse.ArgumentParser(description=doc,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_study_arguments(parser, ROOT / "results")
-    args = parser.parse_args()
-    try:
-        config, engine = study_from_args(args)
-        with clean_stop(resumes=True), engine.session():
-            part(name).run(config, args.results, engine, force=True)
-    except ErgohandoverError as exc:
-        fail(exc)

@@ -1,7 +1,7 @@
 """The study's parts, in run order. Each module has ``run(config, results, engine, force)``:
 it runs the part (and the parts it reads, reused when finished) unless its manifest says it is
-done, and returns whether it ran. ``experiments/run_all.py`` and the one-part scripts
-``experiments/study_<part>.py`` compose them; nothing else does.
+done, and returns whether it ran. ``experiments/run_all.py`` composes them (``--only PART``
+runs one); nothing else does.
 """
 
 from __future__ import annotations
