@@ -25,8 +25,7 @@ import time
 from pathlib import Path
 
 from ergohandover.executor import LocalExecutor
-from ergohandover.landscape import landscapes_of
-from ergohandover.landscape.cache import checksum
+from ergohandover.landscape import checksum, landscapes_of
 from ergohandover.landscape.grid import Grid, parse_boundary
 from ergohandover.study.engines import RayExecutor
 from ergohandover.study.workforce import Workforce, bodies, sample_workforce

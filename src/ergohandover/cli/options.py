@@ -200,7 +200,7 @@ def obtain_landscape(args, evaluator):
     cache, swept into it when missing): the landscape and where it lives."""
     import sys
 
-    from ..landscape.cache import landscape_key
+    from ..landscape import landscape_key
     from ..landscape.store import landscape_of
 
     if args.landscape is not None:

@@ -59,7 +59,7 @@ def as_flags(message: str) -> str:
 def read_landscape(path: Path, flag: str | None = None):
     """The landscape file ``path`` (given with ``flag``); a file that is not one is a one-line
     error naming the flag and the file."""
-    from ..landscape.cache import Landscape
+    from ..landscape import Landscape
 
     named = f"{flag} {shlex.quote(str(path))}" if flag else str(path)
     try:

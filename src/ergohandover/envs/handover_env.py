@@ -12,7 +12,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ..errors import ConfigError, UsageError
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.grid import DEFAULT_STEP, Grid
 from ..sim import require_display
 from ..twin.evaluate import Evaluator, posture_solver

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..ergonomics import OBJECTIVES
 from ..errors import ConfigError
-from ..landscape.cache import Landscape, LandscapeError
+from ..landscape import Landscape, LandscapeError
 from ..landscape.grid import Grid
 from ..twin.evaluate import Evaluator, evaluate_arrays
 

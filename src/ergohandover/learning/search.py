@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.stats import optimum
 from .qlearning import seeds_of
 from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish

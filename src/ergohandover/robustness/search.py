@@ -18,7 +18,7 @@ import pandas as pd
 
 from ..ergonomics import Posture
 from ..ergonomics.posture import POSTURE_COLUMNS
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.grid import Grid
 from ..landscape.stats import most_symmetric
 from ..twin.evaluate import Evaluator, evaluate_arrays

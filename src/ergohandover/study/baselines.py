@@ -20,7 +20,7 @@ from tqdm import tqdm
 
 from ..errors import ConfigError
 from ..executor import Executor
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.stats import optimum
 from ..scene.carries import CarryJob, plan_carries
 from ..scene.planner import DEFAULT_BUDGET, Plan

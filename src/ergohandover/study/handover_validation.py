@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.stats import optimum
 from ..twin.anthropometry import BodySpec
 from ..twin.evaluate import Evaluator, evaluate

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from ..ergonomics import OBJECTIVES
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..twin.evaluate import Evaluator, evaluate
 from .baselines import optimised, shortest_distance
 

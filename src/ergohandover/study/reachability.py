@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from ..executor import LocalExecutor
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.grid import Grid
 from ..landscape.stats import most_symmetric, optimum
 from ..scene.robot import RobotSpec

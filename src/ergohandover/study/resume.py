@@ -5,7 +5,7 @@ fresh clone reuses every committed part).
 
 What decides reuse (:func:`part_hash`): the part's inputs from the typed study configuration
 (:meth:`~.config.StudyConfig.part_inputs`), the package version and the source code of the twin
-and the scorers (:func:`~ergohandover.landscape.cache.twin_code_version`), so a change to the
+and the scorers (:func:`~ergohandover.landscape.twin_code_version`), so a change to the
 model reruns every part.
 
 A part never leaves a half-written folder: it writes into ``results/.partial/<part>/`` and that
@@ -27,7 +27,7 @@ from typing import Any
 
 from .. import __version__
 from ..io.manifest import write_manifest
-from ..landscape.cache import twin_code_version
+from ..landscape import twin_code_version
 
 
 def part_hash(inputs: dict[str, Any]) -> str:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.stats import optimum
 from ..robustness.posture_error import ErrorModel, expected_scores, monte_carlo
 from ..robustness.search import Search, postures_at, robust_optimum

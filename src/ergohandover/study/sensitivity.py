@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.stats import minimisers, optimum
 from ..twin.evaluate import Evaluator, evaluate_arrays
 from ..twin.solver import STRATEGY_DEG

@@ -20,7 +20,7 @@ import viser
 
 from ..errors import ConfigError
 from ..frames import worker_to_world, world_to_worker
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..scene.world import WorkerPosture
 from ..twin.evaluate import Evaluator
 from .cloud import colours, expected_cloud, landscape_cloud

@@ -13,7 +13,7 @@ import numpy as np
 from matplotlib import colormaps
 
 from ..frames import worker_to_world, world_to_worker
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..robustness.posture_error import ErrorModel, expected_scores
 from ..robustness.search import coarse_cells, postures_at
 from ..twin.evaluate import Evaluator

@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from ...io.atomic import atomic_write_csv
-from ...landscape.cache import Landscape
+from ...landscape import Landscape
 from ...landscape.stats import distributions, minimisers, statistics
 from ..config import StudyConfig
 from ..engines import Engine

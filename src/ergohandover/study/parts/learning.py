@@ -45,7 +45,7 @@ from tqdm import tqdm
 from ...envs.handover_env import HandoverEnv
 from ...envs.scores import LandscapeScores, objective_values
 from ...io.atomic import atomic_write_csv
-from ...landscape.cache import Landscape
+from ...landscape import Landscape
 from ...landscape.grid import Grid
 from ...learning.agents import LEARNERS, agent
 from ...learning.targets import target_cells

@@ -33,7 +33,7 @@ from tqdm import tqdm
 
 from ...envs.scores import objective_values
 from ...io.atomic import atomic_write_csv
-from ...landscape.cache import Landscape
+from ...landscape import Landscape
 from ...twin.evaluate import Evaluator
 from ..config import StudyConfig
 from ..engines import Engine

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ...landscape.cache import Landscape
+from ...landscape import Landscape
 from ...landscape.grid import Grid, parse_boundary
 from ...landscape.store import landscape_of, landscapes_of
 from ...twin.evaluate import Evaluator
