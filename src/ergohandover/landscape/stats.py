@@ -22,11 +22,19 @@ def most_symmetric(points: np.ndarray) -> int:
     return int(best[np.argmin(np.linalg.norm(points[best] - centre, axis=1))])
 
 
+def minimum(landscape: Landscape, score: str) -> float:
+    """The landscape's lowest ``score`` over its feasible points."""
+    return float(landscape.arrays[score][landscape.feasible].min())
+
+
+def at_minimum(landscape: Landscape, score: str) -> np.ndarray:
+    """(N,) bool: the feasible points at the score's minimum."""
+    return landscape.feasible & (landscape.arrays[score] == minimum(landscape, score))
+
+
 def minimisers(landscape: Landscape, score: str) -> np.ndarray:
     """Flat indices of the feasible points at the score's minimum."""
-    values = landscape.arrays[score]
-    feasible = landscape.feasible
-    return np.flatnonzero(feasible & (values == values[feasible].min()))
+    return np.flatnonzero(at_minimum(landscape, score))
 
 
 def optimum(landscape: Landscape, score: str = "paper_postural") -> tuple[np.ndarray, np.ndarray]:

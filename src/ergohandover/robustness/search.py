@@ -20,7 +20,7 @@ from ..ergonomics import Posture
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..landscape import Landscape
 from ..landscape.grid import Grid
-from ..landscape.stats import most_symmetric
+from ..landscape.stats import at_minimum, most_symmetric
 from ..twin.evaluate import Evaluator, evaluate_arrays
 from .margins import smallest_margin
 from .posture_error import ErrorModel, expected_scores
@@ -121,9 +121,8 @@ def largest_margin(landscape: Landscape, evaluator: Evaluator, score: str, strid
                    keep: int = 16, radius: int = 2, workers: int = 1) -> Search:
     """Among the cells at the landscape's minimum of ``score``, the one whose smallest margin
     (over its angles, :func:`~.margins.smallest_margin`) is largest."""
-    grid, feasible = landscape.grid, landscape.feasible
-    values = landscape.arrays[score]
-    at_min = feasible & (values == values[feasible].min())
+    grid, values = landscape.grid, landscape.arrays[score]
+    at_min = at_minimum(landscape, score)
     cells = coarse_cells(grid, stride)
     cells = cells[at_min[cells]]
     if cells.size == 0:  # the minimum lies between the coarse cells: search all its cells

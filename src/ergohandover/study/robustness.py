@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from ..landscape import Landscape
-from ..landscape.stats import optimum
+from ..landscape.stats import minimum, optimum
 from ..robustness.posture_error import ErrorModel, expected_scores, monte_carlo
 from ..robustness.search import Search, postures_at, robust_optimum
 from ..twin.evaluate import Evaluator, evaluate
@@ -60,11 +60,6 @@ def search_seed(part: RobustnessConfig) -> int:
     """The errors' seed of every robust search of the study (the first of the part's seeds):
     ``ergohandover baseline`` uses it too, so that it finds the study's robust optimum."""
     return int(np.random.SeedSequence(part.seed).spawn(5)[0].generate_state(1)[0])
-
-
-def own_minimum(landscape: Landscape, score: str) -> float:
-    """The landscape's minimum of ``score`` over its feasible cells."""
-    return float(landscape.arrays[score][landscape.feasible].min())
 
 
 def robust_recommendation(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
@@ -114,7 +109,7 @@ def robust_pair(landscape: Landscape, evaluator: Evaluator, part: RobustnessConf
                                part.worker_draws, seed, settings=evaluator.scoring)
     robust_score = landscape.arrays[ROBUST_SCORE][landscape.grid.nearest_cell(robust.location)]
     return {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
-            "nominal_score": own_minimum(landscape, ROBUST_SCORE),
+            "nominal_score": minimum(landscape, ROBUST_SCORE),
             "nominal_expected": expected[0],
             **{f"robust_{a}": round(float(v), 6)
                for a, v in zip("xyz", robust.location, strict=True)},

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from ...landscape.stats import optimum
+from ...landscape.stats import minimum, optimum
 from ...landscape.store import landscape_of
 from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
 from ...robustness.search import postures_at
@@ -19,7 +19,6 @@ from ..participants import DEFAULT_WORKER
 from ..population import CHOICES, one_size_cells, penalty_regression
 from ..robustness import (
     bootstrap_mean,
-    own_minimum,
     practice_location,
     regret_rows,
     robust_pair,
@@ -65,7 +64,7 @@ def variant_tables(config: StudyConfig, engine: Engine, named: pd.DataFrame,
                            desc="variants at the recommendations"))
     regret = []
     for variant, found_here, at in zip(chosen, found, scored, strict=True):
-        own = {s: own_minimum(found_here, s) for s in SCORES}
+        own = {s: minimum(found_here, s) for s in SCORES}
         mine = at[named["location"].isin(recommendations["location"]).to_numpy()]
         regret += regret_rows("sensitivity", variant.name, mine.reset_index(drop=True), own,
                               recommendations, SCORES)
@@ -155,7 +154,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
     for objective in SCORES:
         scores = np.stack([found[w].arrays[objective] for w in sampled]).astype(float)
         scores[scores < 0] = np.nan
-        own = np.array([own_minimum(found[w], objective) for w in sampled])
+        own = np.array([minimum(found[w], objective) for w in sampled])
         ref_cell = reference.grid.nearest_cell(optimum(reference, objective)[1])
         chosen[objective] = one_size_cells(scores, points, ref_cell)
         one_size += [{"objective": objective, **row} for row in without_optimism(
@@ -176,7 +175,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
                          desc="workers: regret, robust optima", unit="worker"))
     for w, (at, pair, posture, feasible) in zip(sampled, done, strict=True):
         worker = str(table["worker"].iloc[w])
-        own = {s: own_minimum(found[w], s) for s in SCORES}
+        own = {s: minimum(found[w], s) for s in SCORES}
         regret += regret_rows("population", worker, at, own, recommendations, SCORES)
         personal.append({"source": "population", "worker": worker, **pair})
         row = []
