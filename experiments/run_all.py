@@ -63,18 +63,9 @@ from ergohandover.study.script import add_study_arguments, duration, fail, study
 ROOT = Path(__file__).resolve().parents[1]
 HERE = Path(__file__).resolve().parent
 STEPS = (*PARTS, "figures")
-# Wall time of each part on this 2-core machine from an empty landscape cache [s], for the
-# estimate printed at the start; parts already finished are not counted. The learning part
-# estimates itself from its configuration. Default: the committed run's manifests (a test
-# keeps them within 30 %); quick: a run_all.py --quick --force from an empty cache.
-ESTIMATE_S = {"default": {"landscape": 87, "baselines": 107, "ablations": 33,
-                          "participants": 40, "population": 280, "sensitivity": 93,
-                          "validation": 7, "robustness": 209, "stance": 15, "personalise": 207,
-                          "capture": 1, "people": 66, "figures": 24},
-              "quick": {"landscape": 5, "baselines": 60, "ablations": 3, "participants": 3,
-                        "population": 13, "sensitivity": 50, "validation": 1,
-                        "robustness": 63, "stance": 10, "personalise": 8, "capture": 9,
-                        "people": 15, "figures": 22}}
+COMMITTED = {"default": ROOT / "results", "quick": ROOT / "results" / "quick"}
+"""Where each mode's last run left its manifests: a part's estimate is its time there when the
+results folder being written has none of its own."""
 PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
                 "baselines": "fig_baselines", "participants": "fig_participants",
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
@@ -124,10 +115,13 @@ def main(argv: list[str] | None = None) -> int:
     steps = args.only or list(STEPS)
     todo = [p for p in steps if p == "figures" or args.force
             or not is_done(results / p, config.part_inputs(p))]
-    seconds = {p: estimate(p, mode, config, engine.workers) for p in todo}
+    found = {p: estimate(p, results, mode, config, engine.workers) for p in todo}
+    seconds = {p: s for p, s in found.items() if s is not None}
     total = sum(seconds.values())
+    unmeasured = [p for p, s in found.items() if s is None]
     plan = (f"estimated {duration(total)}: "
-            + ", ".join(f"{p} {duration(s)}" for p, s in seconds.items()) if todo
+            + ", ".join(f"{p} {duration(s)}" for p, s in seconds.items())
+            + (f"; not measured yet: {', '.join(unmeasured)}" if unmeasured else "") if todo
             else "every part is finished already")
     source = args.config.name if args.config else f"{mode}.json"
     print(f"run_all ({mode}, config {source}, {engine.name} engine, {engine.workers} workers): "
@@ -157,13 +151,18 @@ def run_steps(steps: list[str], config, results: Path, figures: Path, engine,
         print(f"   {step}: {time.perf_counter() - t0:.0f} s")
 
 
-def estimate(step: str, mode: str, config, workers: int) -> float:
-    """A part's rough wall time [s]: the learning part's from its own configuration (the
-    paper's protocol alone is 70 min of wall-clock caps on 2 cores), the others' from
-    ESTIMATE_S (measured on 2 cores)."""
+def estimate(step: str, results: Path, mode: str, config, workers: int) -> float | None:
+    """A part's wall time [s] as it was last measured: the time in its manifest in ``results``,
+    else in the mode's committed results (:data:`COMMITTED`); the learning part's from its own
+    configuration (the paper's protocol alone is 70 min of wall-clock caps on 2 cores); None
+    for what was never measured here (the figures, a part never run)."""
     if step == "learning":
         return part("learning").estimate_s(config, workers)
-    return ESTIMATE_S[mode][step]
+    for folder in dict.fromkeys((results, COMMITTED[mode])):
+        manifest = folder / step / "manifest.json"
+        if manifest.is_file():
+            return float(json.loads(manifest.read_text())["wall_time_s"])
+    return None
 
 
 def build_figures(results: Path, figures: Path, scripts: tuple[str, ...] = FIGURE_SCRIPTS) -> None:
