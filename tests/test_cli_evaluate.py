@@ -9,15 +9,11 @@ import sys
 import numpy as np
 import pandas as pd
 import pytest
+from cli_run import run_cli
 from PIL import Image
 
 from ergohandover.cli import main
 from ergohandover.twin.evaluate import EVALUATION_COLUMNS
-
-
-def run_cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "ergohandover.cli", *args],
-                          capture_output=True, text=True, timeout=300)
 
 
 def test_evaluates_points_and_renders_one_png_each(tmp_path):

@@ -4,20 +4,13 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pandas as pd
 import pytest
+from cli_run import run_cli
 
 from ergohandover.cli import main
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import Evaluator, evaluate
-
-
-def run_cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "ergohandover.cli", *args],
-                          capture_output=True, text=True, timeout=300)
 
 
 @pytest.fixture

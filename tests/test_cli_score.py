@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from cli_run import run_cli
 
 from ergohandover.cli import main
 from ergohandover.ergonomics import MAIN_SCORE_COLUMNS, SCORE_COLUMNS
@@ -16,9 +17,6 @@ from ergohandover.ergonomics import MAIN_SCORE_COLUMNS, SCORE_COLUMNS
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "postures.csv"
 
 
-def run_cli(*args: str, stdin: str | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "ergohandover.cli", *args], input=stdin,
-                          capture_output=True, text=True, timeout=120)
 
 
 def test_scores_the_example_and_keeps_every_input_column(tmp_path):
@@ -36,7 +34,10 @@ def test_scores_the_example_and_keeps_every_input_column(tmp_path):
 
 
 def test_stdin_to_stdout_through_the_console_entry():
-    result = run_cli("score", "--input", "-", "--output", "-", stdin=EXAMPLE.read_text())
+    # The one spawned process of the file: the module entry as a user's shell runs it.
+    result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "score", "--input", "-",
+                             "--output", "-"], input=EXAMPLE.read_text(), capture_output=True,
+                            text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.strip().splitlines()
     assert len(lines) == 4 and lines[0].endswith("paper_right_arm")

@@ -4,12 +4,11 @@ to the posture and the scores."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_run import run_cli
 
 import ergohandover.landscape.cache as cache_module
 from ergohandover.cli import main
@@ -96,9 +95,6 @@ def test_the_planted_worker_has_no_step_column_and_the_paper_solver_cannot_step(
         Evaluator(task=TaskSpec(stance="step"), solver="pybullet")
 
 
-def run_cli(*args: str, stdin: str = "") -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "ergohandover.cli", *args], input=stdin,
-                          capture_output=True, text=True, timeout=300)
 
 
 def test_evaluate_takes_the_stance_and_refuses_a_bad_one_in_one_line():

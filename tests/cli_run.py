@@ -1,0 +1,30 @@
+"""The command line run in this process, as a subprocess would run it: ``main(argv)`` with
+standard input given and standard output and error captured (the start-up each spawn pays is
+the smoke tests' concern, tests/test_cli_outputs.py)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import subprocess
+import sys
+
+from ergohandover.cli import main
+
+
+def run_cli(*args: str, stdin: str | None = "") -> subprocess.CompletedProcess:
+    """``ergohandover ARGS`` with ``stdin``: its exit code, standard output and error."""
+    out, err = io.StringIO(), io.StringIO()
+    source = io.TextIOWrapper(io.BytesIO((stdin or "").encode()), encoding="utf-8")
+    saved = sys.stdin
+    sys.stdin = source
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(list(args))
+            except SystemExit as exc:  # argparse's --help and its usage errors
+                code = exc.code if isinstance(exc.code, int) else 1
+    finally:
+        sys.stdin = saved
+    return subprocess.CompletedProcess(["ergohandover", *args], code, out.getvalue(),
+                                       err.getvalue())
