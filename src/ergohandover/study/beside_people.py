@@ -36,6 +36,7 @@ import numpy as np
 import pandas as pd
 
 from ..ergonomics import Posture, score_postures
+from ..frames import world_to_worker
 from ..twin.angles import posture_columns
 from ..twin.anthropometry import BodySpec
 from ..twin.segment_sizing import body_from_segments
@@ -89,15 +90,11 @@ def receiver_body(row) -> BodySpec:
          "forearm": row.forearm_m}, shoulder_height_m=round(row.shoulder_height_m, 3))
 
 
-def to_worker(forward: np.ndarray, lateral: np.ndarray, height: np.ndarray) -> np.ndarray:
-    """(N, 3) worker-frame points (x right, y up, z forward) of the derived figures' forward,
-    left and height [m]."""
-    return np.column_stack([-np.asarray(lateral), np.asarray(height), np.asarray(forward)])
-
-
 def hand_points(used: pd.DataFrame) -> np.ndarray:
     """(N, 3) each receiving hand's point at the transfer, worker frame [m]."""
-    return to_worker(used["hand_forward_m"], used["hand_lateral_m"], used["hand_height_m"])
+    # The derived figures' forward, left, up are the world frame's axes (x forward, y left).
+    return world_to_worker(used[["hand_forward_m", "hand_lateral_m", "hand_height_m"]]
+                           .to_numpy(float))
 
 
 def predict(used: pd.DataFrame, bodies: list[BodySpec], task: TaskSpec,

@@ -72,7 +72,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                                part.fit_evaluations)
         fitted_weights = fitted_settings(factors, SolverSettings())
         fitted = predict(used, bodies, task, fitted_weights)
-        rng = np.random.default_rng(part.seed)
+        rng = np.random.default_rng([part.seed, 1])  # the bootstrap's own (the split's: seed)
         table = pd.concat([errors(measured, twin, groups, rng, BOOTSTRAP).assign(twin=name)
                            for name, twin in (("default", default), ("fitted", fitted))],
                           ignore_index=True)
