@@ -119,10 +119,12 @@ def main(argv: list[str] | None = None) -> int:
     seconds = {p: s for p, s in found.items() if s is not None}
     total = sum(seconds.values())
     unmeasured = [p for p, s in found.items() if s is None]
-    plan = (f"estimated {duration(total)}: "
-            + ", ".join(f"{p} {duration(s)}" for p, s in seconds.items())
-            + (f"; not measured yet: {', '.join(unmeasured)}" if unmeasured else "") if todo
-            else "every part is finished already")
+    known = ", ".join(f"{p} {duration(s)}" for p, s in seconds.items())
+    plan = ("; ".join(filter(None, (f"estimated {duration(total)}" + (f": {known}" if known
+                                                                       else ""),
+                                    f"not measured yet: {', '.join(unmeasured)}" if unmeasured
+                                    else "")))
+            if todo else "every part is finished already")
     source = args.config.name if args.config else f"{mode}.json"
     print(f"run_all ({mode}, config {source}, {engine.name} engine, {engine.workers} workers): "
           f"parts {', '.join(steps)}; {plan}")
