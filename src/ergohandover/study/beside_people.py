@@ -50,9 +50,6 @@ ANGLES = ("trunk_flexion", "neck_flexion", "knee_flexion", "upper_arm_flexion",
 handover (its wrists and shoulder girdle are held rigid by the tracker: not compared)."""
 SIDED = ("knee_flexion", "upper_arm_flexion", "upper_arm_abduction", "elbow_flexion")
 SCORES = ("reba", "rula", "paper_postural")
-REACHED_M = 0.01
-"""A twin's hand within this of the receiver's hand point has reached it (the evaluation's
-hand tolerance)."""
 
 
 def source() -> str:

@@ -28,6 +28,7 @@ from ...twin.solver import SolverSettings
 from ...twin.task import TaskSpec
 from ..beside_people import (
     ANGLES,
+    SCORES,
     errors,
     fit,
     fit_loss,
@@ -107,8 +108,8 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                           places, pd.DataFrame({"stature_m": statures}),
                           measured.add_prefix("measured_"), default.add_prefix("twin_"),
                           fitted[list(ANGLES)].add_prefix("fitted_"),
-                          used[[f"{s}_{e}" for s in ("reba", "rula", "paper_postural")
-                                for e in ("lo", "hi")]].add_prefix("people_")], axis=1)
+                          used[[f"{s}_{e}" for s in SCORES for e in ("lo", "hi")]]
+                          .add_prefix("people_")], axis=1)
         atomic_write_csv(rows.round(4), folder / "handovers.csv")
         within = study_task.groupby("weights")["within"].sum().astype(int).to_dict()
         print(f"  the study's published conditions met: default twin {within['default']}, "
