@@ -1,7 +1,7 @@
 """Benchmark: env steps/s (landscape and online) and time to the global minimum per agent.
 
 Usage: python experiments/bench_learning.py [--landscape FILE] [--seeds 10] [--time-cap 30]
-       [--agents qlearning,randomwalk,random,hillclimb,dqn] [--rate-steps 2000000]
+       [--agents qlearning,randomwalk,random-draws,hillclimb,dqn] [--rate-steps 2000000]
        [--online-steps 5000]
 
 1. Steps/s on a landscape: ``env.step()`` through the Gymnasium API, and each agent's own loop
@@ -29,10 +29,10 @@ import numpy as np
 from ergohandover.envs import HandoverEnv, LandscapeScores, OnlineScores
 from ergohandover.landscape import Landscape, cached_landscape, landscape_of
 from ergohandover.landscape.grid import DEFAULT_STEP, Grid
-from ergohandover.learning.agents import run_agent
-from ergohandover.learning.qlearning import run_qlearning
-from ergohandover.learning.search import exhaustive, run_hillclimb, run_random, run_randomwalk
-from ergohandover.learning.trace import Budget
+from ergohandover.landscape.stats import exhaustive
+from ergohandover.search import Budget, make, run
+from ergohandover.search.qlearning import run_qlearning
+from ergohandover.search.walks import run_hillclimb, run_random_draws, run_randomwalk
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
@@ -65,8 +65,8 @@ def gym_steps_per_s(env: HandoverEnv, steps: int) -> float:
     return steps / (time.perf_counter() - start)
 
 
-def agent_rate(run, env, steps: int) -> float:
-    result = run(env, Budget(steps=steps), 0)
+def agent_rate(runner, env, steps: int) -> float:
+    result = runner(env, Budget(steps=steps), 0)
     return result.steps / result.elapsed_s
 
 
@@ -82,9 +82,8 @@ def online_rates(grid: Grid, steps: int) -> tuple[float, float, int]:
 
 
 def run_one(name: str, landscape: Landscape, seed: int, budget: Budget):
-    env = HandoverEnv(LandscapeScores(landscape),
-                      observation="position" if name == "dqn" else "indices")
-    return run_agent(name, env, budget, seed)[0]
+    scores = LandscapeScores(landscape)
+    return run(make(name, scores.grid, seed, episode_end="paper"), scores, budget)
 
 
 def main() -> None:
@@ -93,7 +92,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=10, help="runs per agent (default: 10)")
     parser.add_argument("--time-cap", type=float, default=30.0,
                         help="cap per run [s] (default: 30)")
-    parser.add_argument("--agents", default="qlearning,randomwalk,random,hillclimb,dqn",
+    parser.add_argument("--agents", default="qlearning,randomwalk,random-draws,hillclimb,dqn",
                         help="comma-separated agents (default: all five)")
     parser.add_argument("--rate-steps", type=int, default=2_000_000,
                         help="steps per landscape steps/s measurement (default: 2,000,000)")
@@ -115,13 +114,13 @@ def main() -> None:
     print("\nsteps/s on the landscape (one core):")
     rate = gym_steps_per_s(HandoverEnv(scores), min(args.rate_steps, 500_000))
     print(f"  env.step() via the Gymnasium API      {rate:>12,.0f} steps/s")
-    for name, run in (("qlearning", run_qlearning), ("randomwalk", run_randomwalk),
-                      ("random", run_random), ("hillclimb", run_hillclimb)):
-        rate = agent_rate(run, HandoverEnv(scores), args.rate_steps)
+    for name, runner in (("qlearning", run_qlearning), ("randomwalk", run_randomwalk),
+                         ("random-draws", run_random_draws), ("hillclimb", run_hillclimb)):
+        rate = agent_rate(runner, HandoverEnv(scores), args.rate_steps)
         verdict = ("" if name != "qlearning" else
                    f"   (target >= {TARGET_STEPS_PER_S:,}: "
                    f"{'meets' if rate >= TARGET_STEPS_PER_S else 'MISSES'})")
-        print(f"  {name:<10} agent loop                {rate:>12,.0f} steps/s{verdict}")
+        print(f"  {name:<12} agent loop                {rate:>12,.0f} steps/s{verdict}")
     if args.online_steps > 0:
         cold, warm, evaluated = online_rates(landscape.grid, args.online_steps)
         print(f"online (evaluate() memoised, 4x4x4 blocks), env.step() along a random walk "
@@ -137,7 +136,7 @@ def main() -> None:
     for name in agents:
         times, steps, rates, reached = [], [], [], 0
         for seed in range(args.seeds):
-            budget = Budget(time_cap_s=args.time_cap, stop_score=truth.score)
+            budget = Budget(seconds=args.time_cap, stop_score=truth.score)
             result = run_one(name, landscape, seed, budget)
             hit = result.best_score <= truth.score
             reached += hit

@@ -1,7 +1,7 @@
 """Benchmark: the cost of each ask/tell searcher per evaluation as its history grows, and SAC's
 steps per second.
 
-Usage: python experiments/bench_searchers.py [--searchers random,prior,bo,tpe,cmaes,pso]
+Usage: python experiments/bench_searchers.py [--searchers random-order,prior,bo,tpe,cmaes,pso]
        [--sizes 10,100,250,1000] [--cap 120] [--seed 0] [--sac-steps 1000]
 
 The grid is the population study's: the paper-code boundary every 1 cm (41 x 73 x 31 = 92,783
@@ -16,7 +16,7 @@ on two cores). The scores are read from the landscape, so what is timed is the s
    an Optuna study preloaded with n − 1 trials at random cells (their true scores and
    feasibility): the median of 3 asks and tells, marked ``*``. That is the sampler's cost at
    that history length, whatever the cells.
-3. The ratio to random search (``random``) at the same size, from the same process.
+3. The ratio to random order (``random-order``) at the same size, from the same process.
 4. SAC (``run_sac`` on the continuous env over the same landscape): steps per second between
    a run of ``--sac-steps`` / 5 and one of ``--sac-steps`` steps (SB3's setup cancels out).
 
@@ -34,19 +34,19 @@ import time
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from ergohandover.envs import ContinuousHandoverEnv, LandscapeScores
+from ergohandover.envs import ArrayScores, ContinuousHandoverEnv, LandscapeScores
 from ergohandover.envs.scores import objective_values
 from ergohandover.landscape import cached_landscape, landscape_of
 from ergohandover.landscape.grid import Grid
-from ergohandover.learning.ask_tell import make_searcher, run_search
-from ergohandover.learning.optuna_searchers import OptunaSearcher
-from ergohandover.learning.prior import shipped_prior
-from ergohandover.learning.sac import run_sac
-from ergohandover.learning.trace import Budget
+from ergohandover.search import Budget, make, run
+from ergohandover.search.optuna_searchers import OptunaSearcher
+from ergohandover.search.prior import shipped_prior
+from ergohandover.search.sac import run_sac
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
 STEP = 0.01  # [m]: the population study's grid
+REFERENCE = "random-order"
 WINDOW = 10  # evaluations averaged for the cost at a size
 PRELOADED_ASKS = 3
 
@@ -63,16 +63,21 @@ def landscape_values(grid: Grid) -> tuple[object, np.ndarray]:
 def timed_run(name: str, grid: Grid, values: np.ndarray, size: int, cap_s: float, seed: int,
               prior) -> list[float]:
     """Wall time [s] of each evaluation (ask + tell) of one run, until ``size`` or the cap."""
-    searcher = make_searcher(name, grid, seed, prior)
     stamps = [time.perf_counter()]
-    run_search(searcher, lambda cell: stamps.append(time.perf_counter()) or values[cell], size,
-               stop=lambda: stamps[-1] - stamps[0] > cap_s)
+
+    class Stamped(ArrayScores):
+        def score(self, flat: int) -> float:
+            stamps.append(time.perf_counter())
+            return super().score(flat)
+
+    budget = Budget(evaluations=size, seconds=cap_s if math.isfinite(cap_s) else None)
+    run(make(name, grid, seed, prior), Stamped(grid, values), budget)
     return np.diff(stamps).tolist()
 
 
 def preloaded_cost(name: str, grid: Grid, values: np.ndarray, n: int, seed: int) -> float:
     """Median wall time [s] of an ask and tell after n − 1 trials at random cells."""
-    searcher = make_searcher(name, grid, seed)
+    searcher = make(name, grid, seed)
     assert isinstance(searcher, OptunaSearcher)
     cells = np.random.default_rng(seed).choice(grid.size, size=n - 1, replace=False)
     searcher.add_known([(c, values[c]) for c in cells.tolist()])
@@ -97,7 +102,7 @@ def sac_steps_per_s(landscape, steps: int, seed: int) -> float:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
-    parser.add_argument("--searchers", default="random,prior,bo,tpe,cmaes,pso")
+    parser.add_argument("--searchers", default=f"{REFERENCE},prior,bo,tpe,cmaes,pso")
     parser.add_argument("--sizes", default="10,100,250,1000")
     parser.add_argument("--cap", type=float, default=120.0, help="seconds per run")
     parser.add_argument("--seed", type=int, default=0)
@@ -134,12 +139,12 @@ def main() -> int:
         print(f"{name}: {len(times)} evaluations in {wall:.1f} s", file=sys.stderr, flush=True)
 
     header = "| searcher | " + " | ".join(f"s/eval at {n}" for n in sizes) + " | " + \
-        " | ".join(f"x random at {n}" for n in sizes) + " |"
+        " | ".join(f"x {REFERENCE} at {n}" for n in sizes) + " |"
     print(header)
     print("|" + "---|" * (1 + 2 * len(sizes)))
     for name in names:
-        ratios = [seconds[name][n] / seconds["random"][n] if "random" in seconds else math.nan
-                  for n in sizes]
+        ratios = [seconds[name][n] / seconds[REFERENCE][n] if REFERENCE in seconds
+                  else math.nan for n in sizes]
         print(f"| {name} | " + " | ".join(costs[name][n] for n in sizes) + " | " +
               " | ".join(f"{r:,.0f}" if math.isfinite(r) else "-" for r in ratios) + " |")
     print("(* measured after preloading n - 1 random trials; - not reached within the cap)")

@@ -156,11 +156,15 @@ def run_steps(steps: list[str], config, results: Path, figures: Path, engine,
 def estimate(step: str, results: Path, mode: str, config, workers: int) -> float | None:
     """A part's wall time [s] as it was last measured: the time in its manifest in ``results``,
     else in the mode's committed results (:data:`COMMITTED`); the learning part's from its own
-    configuration (the paper's protocol alone is 70 min of wall-clock caps on 2 cores); None
-    for what was never measured here (the figures, a part never run)."""
-    if step == "learning":
-        return part("learning").estimate_s(config, workers)
+    configuration's runs at the speeds its last runs had (a configuration's wall-clock caps
+    alone can be an hour); None for what was never measured here (the figures, a part never
+    run)."""
     for folder in dict.fromkeys((results, COMMITTED[mode])):
+        if step == "learning":
+            found = part("learning").estimate_s(config, workers, folder / step)
+            if found is not None:
+                return found
+            continue
         manifest = folder / step / "manifest.json"
         if manifest.is_file():
             return float(json.loads(manifest.read_text())["wall_time_s"])

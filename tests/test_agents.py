@@ -12,9 +12,10 @@ import pytest
 from synthetic import CENTRE, bowl_env, bowl_landscape, flat
 
 from ergohandover.envs import HandoverEnv, LandscapeScores
-from ergohandover.learning.qlearning import QLearningConfig, adapt_temperature, run_qlearning
-from ergohandover.learning.search import exhaustive, run_hillclimb, run_random, run_randomwalk
-from ergohandover.learning.trace import TRACE_COLUMNS, Budget, write_result
+from ergohandover.landscape.stats import exhaustive
+from ergohandover.search.qlearning import QLearningConfig, adapt_temperature, run_qlearning
+from ergohandover.search.record import TRACE_COLUMNS, Budget, write_record
+from ergohandover.search.walks import run_hillclimb, run_random_draws, run_randomwalk
 
 ADAPTIVE = QLearningConfig(temperature="adaptive")
 
@@ -88,7 +89,7 @@ def test_the_adaptive_temperature_moves_and_stays_bounded():
     assert adaptive.info["final_temperature"] == 2.0
 
 
-@pytest.mark.parametrize("agent", [run_random, run_hillclimb])
+@pytest.mark.parametrize("agent", [run_random_draws, run_hillclimb])
 def test_search_baselines_find_the_minimum_deterministically(agent):
     a, b = (agent(bowl_env(), Budget(steps=3_000), 3) for _ in range(2))
     assert a.best_score == 5 and list(a.best_cells) == [flat(CENTRE)]
@@ -106,29 +107,31 @@ def test_hillclimbing_climbs_the_reward_from_a_fixed_start():
 
 
 def test_a_time_cap_stops_the_run_and_not_before_it():
-    result = run_qlearning(bowl_env(), Budget(time_cap_s=0.3), 0)
+    result = run_qlearning(bowl_env(), Budget(seconds=0.3), 0)
     # Only what the clock cannot make flaky: the cap ended the run, and not early.
     assert result.stopped_by == "time_cap" and result.elapsed_s >= 0.3
     assert result.trace["time_s"].iloc[-1] == pytest.approx(result.elapsed_s, abs=1e-6)
 
 
-@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random, run_hillclimb])
+@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random_draws, run_hillclimb])
 def test_stop_score_ends_the_run_when_reached(agent):
     result = agent(bowl_env(), Budget(steps=100_000, stop_score=5), 0)
     assert result.stopped_by == "stop_score" and result.steps == result.first_reached[1]
     assert result.best_score <= 5
 
 
-@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random, run_hillclimb])
+@pytest.mark.parametrize("agent", [run_qlearning, run_randomwalk, run_random_draws, run_hillclimb])
 def test_without_a_stop_score_the_run_spends_its_whole_budget(agent):
     result = agent(bowl_env(), Budget(steps=3_000), 0)
     assert result.stopped_by == "step_cap" and result.steps == 3_000
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [
-    ({}, "needs a time cap or a step cap"),
-    ({"time_cap_s": 0.0}, "time_cap_s = 0.0 is outside the valid range"),
+    ({}, "needs a time cap, a step cap or an evaluation cap"),
+    ({"seconds": 0.0}, "seconds = 0.0 is outside the valid range"),
     ({"steps": 0}, "steps = 0 is outside the valid range"),
+    ({"evaluations": 0}, "evaluations = 0 is outside the valid range"),
+    ({"steps": 5, "evaluations": 5}, "counts steps or evaluations, not both"),
 ])
 def test_bad_budgets_are_rejected(kwargs, message):
     with pytest.raises(ValueError, match=message):
@@ -154,7 +157,7 @@ def test_results_are_written_with_the_most_symmetric_best_location_first(tmp_pat
     env = bowl_env()
     result = run_qlearning(env, Budget(steps=2_000), 0)
     result.best_cells = {flat((4, 3, 3)): 5, flat(CENTRE): 9}  # two locations at the best
-    paths = write_result(result, env.location, tmp_path / "run", {"agent": "qlearning"},
+    paths = write_record(result, env.location, tmp_path / "run", {"agent": "qlearning"},
                          {"run": 0})
     assert sorted(p.name for p in paths) == ["best_locations.csv", "manifest.json",
                                             "q_table.npz", "trace.csv"]
@@ -172,7 +175,7 @@ def test_results_are_written_with_the_most_symmetric_best_location_first(tmp_pat
 
 
 def test_a_short_dqn_run_keeps_its_caps_and_its_best():
-    from ergohandover.learning.dqn import DQNConfig, run_dqn
+    from ergohandover.search.dqn import DQNConfig, run_dqn
 
     config = DQNConfig(learning_starts=100, buffer_size=1_000, exploration_steps=300)
     runs = [run_dqn(bowl_env(observation="position"), Budget(steps=600), 1, config)
@@ -197,7 +200,7 @@ def test_infeasible_cells_are_never_best_locations():
 
 def test_a_q_table_reused_from_the_previous_run_starts_at_zero():
     """Runs in one process share a spare zeroed table: a run after another is the same run."""
-    from ergohandover.learning import qlearning
+    from ergohandover.search import qlearning
 
     qlearning._SPARE.clear()
     first = qlearning.run_qlearning(bowl_env(), Budget(steps=5000), 3)

@@ -27,8 +27,8 @@ from ergohandover.cli.values import BadValue
 from ergohandover.envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ergohandover.ergonomics import ScoringSettings
 from ergohandover.landscape.cache import landscape_key
-from ergohandover.learning.qlearning import QLearningConfig
 from ergohandover.scene.robot import RobotSpec
+from ergohandover.search.qlearning import QLearningConfig
 from ergohandover.study.config import StudyConfig, Target
 from ergohandover.study.parts.shared import grid_of
 from ergohandover.twin.anthropometry import MASS_RANGE_KG, STATURE_RANGE_M
@@ -97,7 +97,7 @@ def test_a_shared_flag_has_the_studys_default_in_every_command_and_its_help(dest
 @pytest.mark.parametrize("command", sorted(MODEL))
 def test_without_flags_a_command_models_the_studys_worker_task_and_grid(command):
     required = {"evaluate": ["--points", "p.csv"], "robustness": ["--points", "-"],
-                "train": ["--agent", "random"]}
+                "train": ["--agent", "random-draws"]}
     args = build_parser().parse_args([command, *required.get(command, [])])
     evaluator = evaluator_from_args(args)
     assert evaluator == STUDY_EVALUATOR
@@ -220,18 +220,18 @@ BAD_FLAGS = [
     (["robustness", "--postures", "POSTURES", "--draws", "0"], "--draws 0: must be >= 1"),
     (["robustness", "--postures", "POSTURES", "--stature", "1.8"],
      "--stature cannot be used with --postures"),
-    (["train", "--agent", "random", "--steps", "1e3"], "--steps 1e3: not a whole number"),
-    (["train", "--agent", "random", "--time-cap", "2 min"],
+    (["train", "--agent", "random-draws", "--steps", "1e3"], "--steps 1e3: not a whole number"),
+    (["train", "--agent", "random-draws", "--time-cap", "2 min"],
      "--time-cap '2 min': not a number (expected > 0 s)"),
-    (["train", "--agent", "random", "--steps", "5", "--target", "nan"],
+    (["train", "--agent", "random-draws", "--steps", "5", "--target", "nan"],
      "--target nan: not a finite number"),
     (["evaluate", "--points", "POINTS", "--coupling", "1.5"], "--coupling 1.5: not a whole number"),
     (["evaluate", "--points", "POINTS", "--gaze", "maybe"], "--gaze maybe: not one of on, off"),
     (["sweep", "--bound", "nowhere"], "--bound nowhere: not body, paper-code or six numbers"),
     (["baseline", "--start", "1,2"], "--start 1,2: not three finite numbers X,Y,Z in metres"),
-    (["train", "--agent", "random", "--steps"], "--steps: expected one argument"),
-    (["train", "--agent", "random", "--steps", "5", "--temperature", "adaptive"],
-     "--temperature adaptive cannot be used with --agent random"),
+    (["train", "--agent", "random-draws", "--steps"], "--steps: expected one argument"),
+    (["train", "--agent", "random-draws", "--steps", "5", "--temperature", "adaptive"],
+     "--temperature adaptive cannot be used with --agent random-draws"),
     # Checked by the model after parsing (it takes two flags): both named as flags.
     (["evaluate", "--points", "POINTS", "--handle-span", "0.3"],
      "--handle-span 0.3: outside the valid range: at least --box-width 0.36"),
@@ -348,8 +348,8 @@ FILE_CASES = {
                     ": row 2, column 'coupling': 5 is not allowed"),
     "missing": (["evaluate", "--points", "FILE"], lambda p: p, "does not exist"),
     "a folder": (["score", "--input", "FILE"], folder, "is a folder"),
-    "a CSV as a landscape": (["train", "--agent", "random", "--steps", "5", "--landscape", "FILE"],
-                             written("x,y,z\n0,1,0.4\n"), "not a readable landscape"),
+    "a CSV as a landscape": (["train", "--agent", "random-draws", "--steps", "5", "--landscape",
+                              "FILE"], written("x,y,z\n0,1,0.4\n"), "not a readable landscape"),
     "binary as a landscape": (["landscape-stats", "FILE"], binary_file,
                               "not a readable landscape"),
     "missing landscape": (["baseline", "--landscape", "FILE"], lambda p: p, "no such file"),
@@ -404,7 +404,7 @@ def test_sweep_stats_train_and_baseline_create_their_output_folders(tmp_path, ca
     assert (stats / "landscape_stats.csv").is_file()
     bowl = bowl_landscape().save(tmp_path / "bowl.npz")
     run = tmp_path / "w" / "x" / "run"
-    assert main(["train", "--agent", "random", "--steps", "50", "--landscape", str(bowl),
+    assert main(["train", "--agent", "random-draws", "--steps", "50", "--landscape", str(bowl),
                  "--output", str(run)]) == 0
     assert (run / "trace.csv").is_file()
     out, paths = tmp_path / "y" / "z" / "baselines.csv", tmp_path / "p" / "q"

@@ -56,7 +56,7 @@ def test_every_command_with_default_outputs_leaves_the_checkout_clean(clone, tmp
     run(clone, "landscape-stats", landscape)
     # The paper's start 3 has a negative x: typed as is.
     run(clone, "baseline", "--start", "-0.3,0.8,0.9", "--step", "0.02")
-    run(clone, "train", "--agent", "random", "--steps", "200", "--boundary", SMALL,
+    run(clone, "train", "--agent", "random-draws", "--steps", "200", "--boundary", SMALL,
         "--step", "0.05")
     assert git(clone, "status", "--porcelain", "--untracked-files=all") == ""
     assert (clone / "results/baselines/baselines.csv").read_text() == "published\n"

@@ -3,6 +3,8 @@ directly and through ``train``."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import gymnasium
 import numpy as np
 import pandas as pd
@@ -18,9 +20,8 @@ from ergohandover.envs import (
     LandscapeScores,
 )
 from ergohandover.errors import ConfigError
-from ergohandover.learning.agents import agent_env, run_agent
-from ergohandover.learning.sac import SACConfig, run_sac
-from ergohandover.learning.trace import Budget
+from ergohandover.search import Budget, make, run
+from ergohandover.search.sac import SACConfig, run_sac
 
 
 def bowl_continuous(**kwargs) -> ContinuousHandoverEnv:
@@ -74,7 +75,8 @@ def test_bad_arguments_are_refused_in_one_line():
 
 
 def test_the_sac_agent_gets_the_continuous_env():
-    env = agent_env("sac", LandscapeScores(bowl_landscape()))
+    scores = LandscapeScores(bowl_landscape())
+    env = make("sac", scores.grid, 0).env(scores)
     assert isinstance(env, ContinuousHandoverEnv)
     with pytest.raises(ConfigError, match="SAC needs the continuous-action env"):
         run_sac(HandoverEnv(LandscapeScores(bowl_landscape()), observation="position"),
@@ -90,9 +92,11 @@ def test_a_short_sac_run_keeps_its_caps_and_is_deterministic():
                                   b.trace.drop(columns="time_s"))
 
 
-def test_sac_runs_through_run_agent_and_train(tmp_path):
-    result, config = run_agent("sac", bowl_continuous(), Budget(steps=50), 0)
-    assert result.steps == 50 and isinstance(config, SACConfig)
+def test_sac_runs_through_the_protocol_and_train(tmp_path):
+    scores = LandscapeScores(bowl_landscape())
+    result = run(make("sac", scores.grid, 0), scores, Budget(steps=50))
+    assert result.steps == 50 and result.searcher == "sac"
+    assert result.settings == dataclasses.asdict(SACConfig())
     bowl = bowl_landscape().save(tmp_path / "bowl.npz")
     out = tmp_path / "sac"
     assert main(["train", "--agent", "sac", "--steps", "50", "--landscape", str(bowl),

@@ -8,7 +8,7 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "ergohandover"
 LAYERS = ("ergonomics", "io", "twin", "capture", "scene", "landscape", "robustness", "envs",
-          "learning", "viewer", "study", "cli")
+          "search", "viewer", "study", "cli")
 TOP_LEVEL = {"__init__.py", "errors.py", "ranges.py", "frames.py", "sim.py", "executor.py"}
 
 
@@ -33,6 +33,41 @@ def test_the_top_level_holds_at_most_six_modules():
     assert modules == TOP_LEVEL and len(modules) <= 6
     assert {p.name for p in PACKAGE.iterdir() if p.is_dir() and p.name != "__pycache__"} == set(
         LAYERS)
+
+
+def module_graph() -> dict[str, set[str]]:
+    """Each module of the package (a package by its face) -> the modules it imports, at the
+    top or inside a function (``from . import sub`` imports ``sub``, not the face)."""
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph = {}
+    for name, path in modules.items():
+        found = set()
+        for module, names in imports(path):
+            subs = {f"{module}.{n}" if module else n for n in names} & set(modules)
+            found |= subs
+            if module in modules and len(subs) < len(names):
+                found.add(module)
+        graph[name] = found - {name}
+    return graph
+
+
+def test_the_package_has_no_import_cycle():
+    graph = module_graph()
+    done: set[str] = set()
+
+    def visit(name: str, path: tuple[str, ...]) -> None:
+        for nxt in sorted(graph[name]):
+            assert nxt not in path, f"import cycle: {' -> '.join((*path, nxt))}"
+            if nxt not in done:
+                visit(nxt, (*path, nxt))
+        done.add(name)
+
+    for name in sorted(graph):
+        if name not in done:
+            visit(name, (name,))
 
 
 def test_layers_import_only_the_layers_above_them():
@@ -79,8 +114,8 @@ EXPERIMENTS = ROOT / "experiments"
 CACHE_NAMES = {"cache_dir", "landscape_path"}
 """The cache's own names: only ergohandover.landscape may use them (the landscape door,
 ergohandover.landscape.store, is every other module's way to a cached landscape)."""
-ANALYSIS_MAY_IMPORT = {"io.atomic": None, "learning.agents": {"AGENTS"},
-                       "learning.statistics": {"wilson"},
+ANALYSIS_MAY_IMPORT = {"io.atomic": None, "search.registry": {"SEARCHERS"},
+                       "search.statistics": {"wilson"},
                        "landscape.stats": {"plot_distributions"}}
 """What experiments/analysis/ may take from the package: writing files, the agents' names,
 arithmetic on numbers read from results/ and a plot; nothing that evaluates or sweeps."""
@@ -148,8 +183,8 @@ def test_modules_stay_a_few_hundred_lines():
 
 NOT_ERRORS = {"ergohandover.executor.Stopped": "a stop signal: a KeyboardInterrupt, so that every "
               "layer unwinds as on Ctrl-C and the command exits 130 or 143, not 2",
-              "ergohandover.learning.env_searches._Spent": "private control flow: a spent "
-              "budget ends an agent's run inside the adapter and never leaves it"}
+              "ergohandover.search.protocol.Spent": "control flow: a spent budget ends a "
+              "searcher's loop inside search.run and never leaves it"}
 """Exception classes that are not errors, with the reason."""
 
 

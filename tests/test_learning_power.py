@@ -17,11 +17,12 @@ from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.multitest import multipletests
 from statsmodels.stats.proportion import binom_test
 
-from ergohandover.envs import HandoverEnv, LandscapeScores
+from ergohandover.envs import LandscapeScores
 from ergohandover.landscape.cache import Landscape, landscape_key, landscape_path
 from ergohandover.landscape.grid import Grid
-from ergohandover.learning.agents import run_agent
-from ergohandover.learning.statistics import (
+from ergohandover.search import Budget, make
+from ergohandover.search import run as run_search
+from ergohandover.search.statistics import (
     equivalence_p,
     holm,
     mcnemar_power,
@@ -29,7 +30,6 @@ from ergohandover.learning.statistics import (
     tost_power,
     verdict,
 )
-from ergohandover.learning.trace import Budget
 from ergohandover.study.config import StepBudget, StudyConfig
 from ergohandover.study.learning_runs import RunJob, budget_rows, run_job, run_seed
 from ergohandover.study.learning_summary import comparisons
@@ -70,9 +70,8 @@ class RecordingScores(LandscapeScores):
 
 def recorded_run(name: str, steps: int, seed: int = 11) -> tuple[list[int], object]:
     scores = RecordingScores(rugged_landscape())
-    env = HandoverEnv(scores, episode_end="none")
-    result, _ = run_agent(name, env, Budget(steps=steps), seed, episode_steps=500)
-    return scores.asked, result
+    agent = make(name, scores.grid, seed, episode_end="none", episode_steps=500)
+    return scores.asked, run_search(agent, scores, Budget(steps=steps))
 
 
 @pytest.mark.parametrize("name", CHEAP)
@@ -185,7 +184,7 @@ def synthetic_runs() -> pd.DataFrame:
     for budget, steps in (("short", 1_000), ("long", 2_000)):
         for run in range(100):
             for agent, first in (("qlearning", 10 + run), ("randomwalk", 500 + run),
-                                 ("random", 11 + run)):
+                                 ("random-draws", 11 + run)):
                 value = float(first) if budget == "short" else 0.0
                 rows.append({"target": "t", "budget": budget, "mapping": 315.0,
                              "cap_min": 1.0, "steps": steps, "agent": agent, "run": run,
@@ -202,7 +201,7 @@ def test_the_comparisons_correct_over_the_whole_family_and_give_verdicts():
     at = table.set_index(["budget", "versus"])
     assert at.loc[("short", "randomwalk"), "verdict"] == "better"
     assert at.loc[("short", "randomwalk"), "rank_biserial"] == 1.0
-    assert at.loc[("short", "random"), "verdict"] == "better"  # sooner by 1 in every run
+    assert at.loc[("short", "random-draws"), "verdict"] == "better"  # sooner by 1 in every run
     # Everyone at once in every run: no difference, success rates equal in every pair.
     assert at.loc[("long", "randomwalk"), "p_wilcoxon"] == 1.0
     assert at.loc[("long", "randomwalk"), "p_tost"] == pytest.approx(0.9 ** 100)

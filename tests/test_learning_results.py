@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 from statsmodels.stats.multitest import multipletests
 
-from ergohandover.learning.statistics import verdict
+from ergohandover.search.statistics import verdict
 from ergohandover.study.config import StudyConfig
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -31,7 +31,7 @@ def read(name: str) -> pd.DataFrame:
 def test_the_summary_has_five_targets_five_agents_enough_runs_and_intervals():
     summary = read("summary.csv")
     assert summary["target"].nunique() >= 5
-    assert {"qlearning", "randomwalk", "random", "hillclimb", "dqn"} <= set(summary["agent"])
+    assert {"qlearning", "randomwalk", "random-draws", "hillclimb", "dqn"} <= set(summary["agent"])
     dqn = summary["agent"] == "dqn"
     assert (summary.loc[~dqn, "n_runs"] >= 100).all() and (summary.loc[dqn, "n_runs"] >= 20).all()
     rate = summary["successes"] / summary["n_runs"]

@@ -14,23 +14,23 @@ from synthetic import CENTRE, bowl_env, bowl_landscape, cached_bowl, flat
 
 from ergohandover.envs import HandoverEnv, LandscapeScores
 from ergohandover.envs.scores import LEXICOGRAPHIC, objective_values
-from ergohandover.learning.qlearning import QLearningConfig, run_qlearning
-from ergohandover.learning.rollouts import (
+from ergohandover.search.qlearning import QLearningConfig, run_qlearning
+from ergohandover.search.record import Budget
+from ergohandover.search.rollouts import (
     random_policy,
     roll_out,
     step_limit,
     table_policy,
 )
-from ergohandover.learning.search import run_randomwalk
-from ergohandover.learning.statistics import (
+from ergohandover.search.statistics import (
     best_so_far,
     bootstrap_band,
     censored_median,
     cliffs_delta,
     wilson,
 )
-from ergohandover.learning.targets import evaluations_to_target, target_cells
-from ergohandover.learning.trace import Budget
+from ergohandover.search.targets import evaluations_to_target, target_cells
+from ergohandover.search.walks import WalkConfig, run_randomwalk
 from ergohandover.study.config import StepBudget, StudyConfig
 from ergohandover.study.engines import Engine
 from ergohandover.study.learning_runs import RunJob, run_job, run_seed, run_table
@@ -53,7 +53,7 @@ def test_the_random_walk_is_deterministic_for_a_seed_and_moves_one_cell_a_step()
 
 def test_a_random_walk_restarts_every_episode_like_the_learner():
     env = bowl_env(episode_end="none")
-    walk = run_randomwalk(env, Budget(steps=1_000), 0, episode_steps=10)
+    walk = run_randomwalk(env, Budget(steps=1_000), 0, WalkConfig(episode_steps=10))
     learner = run_qlearning(env, Budget(steps=1_000), 0, QLearningConfig(episode_steps=10))
     assert walk.info["episodes"] == learner.info["episodes"] == 101
 
@@ -104,7 +104,7 @@ def test_targets_are_the_minimum_or_the_rewards_best_cells():
 def test_evaluations_to_target_is_the_first_visit_of_a_target_cell():
     env, values = two_minima_env()
     reward = target_cells(env, values, "reward")
-    result = run_randomwalk(env, Budget(steps=30_000), 1, episode_steps=50)
+    result = run_randomwalk(env, Budget(steps=30_000), 1, WalkConfig(episode_steps=50))
     reached = evaluations_to_target(result, reward)
     assert reached == result.best_cells[flat(CENTRE)]
     assert evaluations_to_target(run_randomwalk(env, Budget(steps=1), 1), reward) is None
@@ -190,7 +190,7 @@ def test_a_study_run_is_deterministic_for_its_seed_and_reports_its_target(bowl_f
 def test_the_summary_counts_successes_with_intervals_and_compares_run_for_run(bowl_file):
     budgets = [StepBudget("b20", 1.0, 20.0, 20), StepBudget("b60", 1.0, 60.0, 60)]
     done = [run_job(job(bowl_file, agent, run, steps=60)) for agent in ("qlearning",
-            "randomwalk", "random") for run in range(4)]
+            "randomwalk", "random-draws") for run in range(4)]
     runs = run_table(done, lambda agent: budgets)
     assert len(runs) == 3 * 4 * 2 and set(runs["budget"]) == {"b20", "b60"}
     traces = {tuple(d["trace"].drop(columns="time_s").itertuples(index=False)) for d in done}
@@ -206,7 +206,7 @@ def test_the_summary_counts_successes_with_intervals_and_compares_run_for_run(bo
         assert (table.loc[(agent, budget), "ci_low"],
                 table.loc[(agent, budget), "ci_high"]) == wilson(k, 4)
     tests = comparisons(runs, ("qlearning",), 0.1, 0.05)
-    assert list(tests["versus"]) == ["randomwalk", "random"] * 2
+    assert list(tests["versus"]) == ["randomwalk", "random-draws"] * 2
     assert (tests["n"] == 4).all() and tests["p_wilcoxon"].between(0, 1).all()
     assert tests["verdict"].isin(["better", "worse", "equivalent within ±10 pp",
                                   "no conclusion"]).all()
@@ -219,7 +219,7 @@ QUICK = ROOT / "experiments" / "configs" / "quick.json"
 def test_the_quick_learning_part_runs_paired_and_reads_every_budget_from_one_run(tmp_path):
     config = StudyConfig.load(QUICK, (
         'learning.targets=[{"name": "paper"}, {"name": "paper-reward", "goal": "reward"}]',
-        'learning.agents=["qlearning", "dqn", "randomwalk", "random", "hillclimb"]',
+        'learning.agents=["qlearning", "dqn", "randomwalk", "random-draws", "hillclimb"]',
         "learning.runs=4", "learning.dqn_runs=2", "learning.full_runs=2",
         "landscape.variants.step=0.08"))
     assert part("learning").run(config, tmp_path, Engine("local", 2))

@@ -49,7 +49,7 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
         assert heading in tables
     runs = pd.read_csv(results / "learning" / "runs.csv")
     assert set(runs["agent"]) == {"qlearning", "qlearning-adaptive", "dqn", "randomwalk",
-                                  "random", "hillclimb"}
+                                  "random-draws", "hillclimb"}
     assert (runs["best_score"] >= runs["target_score"]).all()
     assert set(runs["stopped_by"]) <= {"step_cap", "stop_score"}  # runs stop at the target
     assert list(cache.glob("landscapes/*.npz")), "the study's landscapes go to the cache"

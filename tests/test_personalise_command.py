@@ -26,10 +26,10 @@ from ergohandover.cli import personalise as command
 from ergohandover.envs.scores import SCORE_MAX
 from ergohandover.ergonomics import Posture, score_postures
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS, REQUIRED_COLUMNS
-from ergohandover.learning.answers import SCORE_RANGES, AnswerReader, Refused
-from ergohandover.learning.ask_tell import Searcher
-from ergohandover.learning.oracles import Oracle
-from ergohandover.learning.session import Session, run
+from ergohandover.search import AskTellSearcher
+from ergohandover.search.answers import SCORE_RANGES, AnswerReader, Refused
+from ergohandover.search.oracles import Oracle
+from ergohandover.search.session import Session, run
 from ergohandover.study.config import PersonaliseConfig, PopulationConfig
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +40,7 @@ PROPOSAL = re.compile(r"^trial (\d+)/\d+: hand the box at (.+)$", re.MULTILINE)
 
 
 def ask(monkeypatch, capsys, answers: str, output: Path, *flags: str,
-        searcher: str = "random") -> tuple[int, str, str]:
+        searcher: str = "random-order") -> tuple[int, str, str]:
     """A session answered from ``answers`` on standard input: exit code, stdout, stderr."""
     monkeypatch.setattr(sys, "stdin", io.StringIO(answers))
     capsys.readouterr()
@@ -96,14 +96,14 @@ def test_an_interrupted_session_resumes_with_the_proposals_it_would_have_made(
     assert tuple(best[["x", "y", "z"]]) == tuple(split.loc[2, ["x", "y", "z"]])
     manifest = json.loads((tmp_path / "split" / "manifest.json").read_text())
     assert manifest["summary"]["recommendation"]["trial"] == 3
-    assert manifest["config"]["searcher"] == "random" and manifest["seeds"] == {"searcher": 0}
+    assert manifest["config"]["searcher"] == "random-order" and manifest["seeds"] == {"searcher": 0}
 
 
 def test_the_acceptance_session_through_the_console_script(tmp_path):
     """``printf '…' | ergohandover personalise --oracle ask …``: a bad answer, standard input
     ending (the interruption), the same command again, a recommendation."""
     script = Path(sys.executable).with_name("ergohandover")
-    command_line = (f"{script} personalise --oracle ask --searcher random --stature 1.62 "
+    command_line = (f"{script} personalise --oracle ask --searcher random-order --stature 1.62 "
                     f"--sex female --trials 4 --output {tmp_path / 'run'}")
     first = subprocess.run(["bash", "-c", f"printf '5\\nfive\\n6\\n' | {command_line}"],
                            capture_output=True, text=True, timeout=300)
@@ -133,7 +133,7 @@ def wait_for(condition, what: str, timeout: float = 120) -> None:
 def test_ctrl_c_or_kill_while_asking_loses_no_answer(tmp_path, signum, code):
     out = tmp_path / "run"
     argv = [sys.executable, "-m", "ergohandover.cli", "personalise", "--oracle", "ask",
-            "--searcher", "random", *WORKER, "--trials", "3", "--output", str(out)]
+            "--searcher", "random-order", *WORKER, "--trials", "3", "--output", str(out)]
     run_ = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     try:
@@ -159,7 +159,7 @@ def test_a_session_stopped_before_its_first_answer_leaves_no_folder(monkeypatch,
                                                                     tmp_path):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(sys, "stdin", io.StringIO(""))
-    assert main(["personalise", "--oracle", "ask", "--searcher", "random", *WORKER]) == (
+    assert main(["personalise", "--oracle", "ask", "--searcher", "random-order", *WORKER]) == (
         command.PAUSED)
     assert "no trial was answered, nothing is saved" in capsys.readouterr().err
     assert not list((tmp_path / "runs" / "personalise").iterdir())
@@ -171,7 +171,7 @@ def registered(name: str) -> bool:
     return name in command.registered_searchers()
 
 
-@pytest.mark.parametrize("searcher", ["random", "prior", "bo"])
+@pytest.mark.parametrize("searcher", ["random-order", "prior", "bo"])
 def test_the_twin_session_is_deterministic_and_recommends_the_twins_score(tmp_path, capsys,
                                                                           searcher):
     if not registered(searcher):
@@ -194,7 +194,7 @@ def test_the_twin_session_is_deterministic_and_recommends_the_twins_score(tmp_pa
 
 
 def test_the_target_ends_the_session_at_the_first_score_at_or_below_it(tmp_path, capsys):
-    assert main(["personalise", "--oracle", "twin", "--searcher", "random", "--trials", "50",
+    assert main(["personalise", "--oracle", "twin", "--searcher", "random-order", "--trials", "50",
                  "--target", "14", *SMALL, "--output", str(tmp_path / "t")]) == 0
     assert "1 of 50 trials used: --target 14 reached" in capsys.readouterr().out
     assert len(pd.read_csv(tmp_path / "t" / "trials.csv")) == 1
@@ -206,7 +206,7 @@ def test_answers_in_a_file_are_matched_to_their_trials(tmp_path, capsys):
     answers = tmp_path / "answers.csv"
     answers.write_text("trial,answer\n# the ergonomist's sheet\n1,6\n2,abc\n2,5\n4,3\n3,x\n")
     assert main(["personalise", "--oracle", "file", "--answers", str(answers), "--searcher",
-                 "random", *WORKER, "--trials", "4", "--output", str(tmp_path / "f")]) == 0
+                 "random-order", *WORKER, "--trials", "4", "--output", str(tmp_path / "f")]) == 0
     out, err = capsys.readouterr()
     assert "refused: 'abc' is not an answer" in err
     # a line for a trial not yet proposed waits for its trial
@@ -220,7 +220,7 @@ def test_the_file_oracle_waits_for_the_line_of_the_proposed_trial(tmp_path):
     proposal = out / command.PROPOSAL
     run_ = subprocess.Popen([sys.executable, "-m", "ergohandover.cli", "personalise", "--oracle",
                              "file", "--answers", str(answers), "--poll", "0.05", "--searcher",
-                             "random", *WORKER, "--trials", "3", "--output", str(out)],
+                             "random-order", *WORKER, "--trials", "3", "--output", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         for trial, score in ((1, 7), (2, 4), (3, 9)):  # the other program: reads, answers
@@ -307,7 +307,7 @@ def test_each_objectives_range_is_what_its_scorer_can_give():
 
 # The loop itself: a searcher that proposes a known location again ----------------------------
 
-class Cycle(Searcher):
+class Cycle(AskTellSearcher):
     """Proposes cells 0, 1, 0, 2, 3, ... (one repeat)."""
 
     name = "cycle"
@@ -327,7 +327,7 @@ class Cycle(Searcher):
 
 class Scores(Oracle):
     def answer(self, proposal):
-        from ergohandover.learning.answers import Answer
+        from ergohandover.search.answers import Answer
 
         return Answer(10.0 - proposal.cell, "score", f"{10 - proposal.cell}")
 
@@ -340,12 +340,18 @@ def test_a_repeated_proposal_is_told_the_known_answer_and_costs_no_trial(tmp_pat
     session = Session(tmp_path / "state.json", {"searcher": "cycle"})
     searcher = Cycle(grid)
     assert run(session, searcher, Scores(), budget=3, say=lambda _: None) == "budget"
-    assert [r.trial for r in session.history] == [1, 2, None, 3]
+    assert [r.trial for r in session.history] == [1, 2, 3]  # the repeat is no trial
     assert searcher.told == [(0, 10.0), (1, 9.0), (0, 10.0), (2, 8.0)]
     resumed = Session.open(tmp_path / "state.json", {"searcher": "cycle"})
-    again = resumed.resume(Cycle(grid))  # replays the repeat too: the same next proposal
+    again = resumed.resume(Cycle(grid))  # answers the repeat again: the same next proposal
     assert again.told == searcher.told and again.ask() == 3
     assert resumed.best().trial == 3
+    # A state file that lists the repeat (trial null) reads the same.
+    state = json.loads((tmp_path / "state.json").read_text())
+    state["history"].insert(2, {**state["history"][0], "trial": None})
+    (tmp_path / "old.json").write_text(json.dumps(state))
+    old = Session.open(tmp_path / "old.json", {"searcher": "cycle"})
+    assert old.history == resumed.history and old.resume(Cycle(grid)).ask() == 3
 
 
 # Bad flags: one line, exit code 2, nothing written ------------------------------------------
@@ -392,7 +398,7 @@ def test_a_state_of_other_settings_or_no_state_at_all_is_refused(tmp_path, capsy
     out = tmp_path / "s"
     assert ask(monkeypatch, capsys, "6\n", out, "--trials", "2")[0] == command.PAUSED
     state = (out / "state.json").read_bytes()
-    argv = ["--oracle", "ask", "--searcher", "random", *WORKER, "--output", str(out)]
+    argv = ["--oracle", "ask", "--searcher", "random-order", *WORKER, "--output", str(out)]
     err = refused([*argv, "--seed", "1"], tmp_path, capsys)
     assert (f"--output {out}: its session was made with seed = 0, this command has 1 "
             "(--seed): rerun that session's command") in err

@@ -14,17 +14,12 @@ import pandas as pd
 import pytest
 from synthetic import BOWL, bowl_landscape, flat
 
+from ergohandover.envs import ArrayScores
 from ergohandover.envs.scores import objective_values
 from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
-from ergohandover.learning.ask_tell import (
-    RandomSearcher,
-    Searcher,
-    make_searcher,
-    replay,
-    run_search,
-)
-from ergohandover.learning.prior import PopulationPrior, Prior, shipped_prior
+from ergohandover.search import AskTellSearcher, Budget, make, replay, run
+from ergohandover.search.prior import PopulationPrior, Prior, shipped_prior
 from ergohandover.study.personalise import (
     censored_at,
     leave_one_out_priors,
@@ -38,7 +33,7 @@ GRID = Grid(BOWL, 0.03)
 VALUES = objective_values(bowl_landscape(), "paper_postural")  # minimum 5 at the centre
 
 
-class Scripted(Searcher):
+class Scripted(AskTellSearcher):
     """Proposes a fixed list of cells (repeats included)."""
 
     name = "scripted"
@@ -54,37 +49,52 @@ class Scripted(Searcher):
         self.told.append((cell, score))
 
 
+SCORES = ArrayScores(GRID, VALUES)
+
+
+def search(searcher, evaluations: int, stop_at: float | None = None):
+    return run(searcher, SCORES, Budget(evaluations=evaluations, stop_score=stop_at))
+
+
 def test_the_loop_counts_each_cell_once_and_stops_at_the_target():
     centre = flat((3, 3, 3))
     searcher = Scripted([0, 0, 1, centre, 2])
-    record = run_search(searcher, lambda c: float(VALUES[c]), budget=10, stop_at=5.0)
+    record = search(searcher, 10, stop_at=5.0)
     # The repeat of cell 0 is answered from what is known and costs no evaluation.
-    assert record.cells == [0, 1, centre] and record.asks == 4
-    assert record.evaluations_to(5.0) == 3 and record.best == (centre, 5.0)
+    assert record.cells == [0, 1, centre] and record.info["asks"] == 4
+    assert record.reached_at(5.0) == 3 and record.best == (centre, 5.0)
+    assert record.stopped_by == "stop_score"
     assert searcher.told[1] == (0, float(VALUES[0]))
 
 
+def test_a_searcher_that_keeps_to_known_cells_ends():
+    record = search(Scripted([0] * 1_000), 10)
+    assert record.cells == [0] and record.stopped_by == "ask_cap"
+    assert record.info["asks"] == 50 * 10  # the one guard: 50 reads per evaluation
+
+
 def test_the_loop_keeps_to_its_budget_and_reports_infeasible_cells_as_inf():
-    record = run_search(RandomSearcher(GRID, 3), lambda c: float(VALUES[c]), budget=25)
+    record = search(make("random-order", GRID, 3), 25)
     assert len(record.cells) == 25 == len(set(record.cells))
     infeasible = flat((6, 6, 6))
-    answered = run_search(Scripted([infeasible]), lambda c: float(VALUES[c]), budget=1)
-    assert answered.scores == [math.inf] and answered.evaluations_to(99) is None
-    with pytest.raises(ConfigError, match="budget = 0"):
-        run_search(RandomSearcher(GRID, 3), lambda c: 1.0, budget=0)
+    answered = search(Scripted([infeasible]), 1)
+    assert answered.scores == [math.inf] and answered.reached_at(99) is None
+    assert answered.best is None
+    with pytest.raises(ConfigError, match="evaluations = 0"):
+        Budget(evaluations=0)
 
 
-def test_random_search_is_seeded_and_replays_its_history():
-    first = run_search(RandomSearcher(GRID, 7), lambda c: float(VALUES[c]), budget=30)
-    again = run_search(RandomSearcher(GRID, 7), lambda c: float(VALUES[c]), budget=30)
+def test_random_order_is_seeded_and_replays_its_history():
+    first = search(make("random-order", GRID, 7), 30)
+    again = search(make("random-order", GRID, 7), 30)
     assert first.cells == again.cells
-    resumed = replay(RandomSearcher(GRID, 7), list(zip(first.cells[:12], first.scores[:12],
-                                                       strict=True)))
+    resumed = replay(make("random-order", GRID, 7),
+                     list(zip(first.cells[:12], first.scores[:12], strict=True)))
     assert resumed.ask() == first.cells[12]
     with pytest.raises(ConfigError, match="history trial 1"):
-        replay(RandomSearcher(GRID, 8), [(first.cells[0], first.scores[0])])
+        replay(make("random-order", GRID, 8), [(first.cells[0], first.scores[0])])
     with pytest.raises(ConfigError, match="searcher = 'nope'"):
-        make_searcher("nope", GRID, 0)
+        make("nope", GRID, 0)
 
 
 def synthetic_workers(n: int = 40, seed: int = 0) -> pd.DataFrame:
@@ -133,7 +143,7 @@ def test_the_shipped_prior_is_the_fit_of_the_committed_population():
     shipped = shipped_prior()
     assert np.allclose(shipped.coefficients, fitted.coefficients, atol=1e-12)
     assert np.allclose(shipped.residual_sd, fitted.residual_sd, atol=1e-12)
-    document = json.loads((ROOT / "src" / "ergohandover" / "learning" /
+    document = json.loads((ROOT / "src" / "ergohandover" / "search" /
                            "population_prior.json").read_text())
     assert "results/population/workers.csv" in document["source"]
     # Taller workers are expected to take the box higher.

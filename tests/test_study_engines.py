@@ -20,7 +20,7 @@ TIMING = ["elapsed_s", "steps_per_s"]  # wall-clock figures: the only columns th
 def test_the_learning_part_on_ray_repeats_the_local_pool(tmp_path, monkeypatch):
     monkeypatch.setenv("ERGOHANDOVER_CACHE", str(tmp_path / "cache"))
     config = StudyConfig.load(ROOT / "experiments" / "configs" / "quick.json", (
-        'learning.agents=["qlearning", "randomwalk", "random"]', "learning.runs=2",
+        'learning.agents=["qlearning", "randomwalk", "random-draws"]', "learning.runs=2",
         "learning.wall_targets=[]", "learning.dqn_targets=[]",
         'learning.targets=[{"name": "paper"}, {"name": "rula", "objective": "rula"}]',
         "baselines.location.target=paper"))

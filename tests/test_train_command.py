@@ -41,7 +41,7 @@ def test_train_on_a_landscape_writes_results_and_reports_the_minimum(bowl_file, 
     assert (out / "q_table.npz").exists()
 
 
-@pytest.mark.parametrize("agent", ["randomwalk", "random", "hillclimb"])
+@pytest.mark.parametrize("agent", ["randomwalk", "random-draws", "hillclimb"])
 def test_baselines_run_through_the_same_command(bowl_file, tmp_path, agent):
     out = tmp_path / agent
     assert main(["train", "--agent", agent, "--steps", "20000", "--landscape", str(bowl_file),
@@ -83,8 +83,8 @@ def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, c
     (["--agent", "qlearning", "--time-cap", "0"], "--time-cap 0: must be > 0 s"),
     (["--agent", "sarsa", "--steps", "5"],
      "--agent sarsa: not one of qlearning, qlearning-adaptive, dqn"),
-    (["--agent", "random", "--steps", "5", "--temperature", "adaptive"],
-     "--temperature adaptive cannot be used with --agent random"),
+    (["--agent", "random-draws", "--steps", "5", "--temperature", "adaptive"],
+     "--temperature adaptive cannot be used with --agent random-draws"),
     (["--agent", "qlearning", "--steps", "5", "--objective", "owas"],
      "--objective owas: not one of paper_postural, reba, reba_ab, rula"),
     (["--agent", "qlearning", "--steps", "5", "--landscape", "missing.npz"],
@@ -110,7 +110,7 @@ def test_bad_arguments_exit_2_with_one_line_and_write_nothing(bowl_file, tmp_pat
 
 
 def test_an_output_that_is_a_file_is_refused_before_the_run(bowl_file, capsys):
-    assert main(["train", "--agent", "random", "--steps", "5", "--landscape", str(bowl_file),
+    assert main(["train", "--agent", "random-draws", "--steps", "5", "--landscape", str(bowl_file),
                  "--output", str(bowl_file)]) == 2
     assert f"--output {bowl_file}: a file, not a folder" in capsys.readouterr().err
 
@@ -120,7 +120,7 @@ def test_the_learning_benchmark_runs_on_a_tiny_budget(bowl_file):
     result = subprocess.run(
         [sys.executable, str(ROOT / "experiments" / "bench_learning.py"), "--landscape",
          str(bowl_file), "--seeds", "2", "--time-cap", "2", "--rate-steps", "20000",
-         "--online-steps", "0", "--agents", "qlearning,random,hillclimb"],
+         "--online-steps", "0", "--agents", "qlearning,random-draws,hillclimb"],
         capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "qlearning" in result.stdout and "steps/s" in result.stdout

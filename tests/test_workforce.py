@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from ergohandover.errors import ConfigError
-from ergohandover.learning.statistics import wilson
+from ergohandover.search.statistics import wilson
 from ergohandover.study.population import (
     line_fit,
     one_size_cells,

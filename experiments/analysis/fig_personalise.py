@@ -8,7 +8,14 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 from common import read, save
 
+from ergohandover.search.registry import SEARCHERS
+
 TITLES = {"optimum": "the worker's own optimum", "within_1": "within one point of it"}
+
+
+def warm_started(name: str) -> bool:
+    """A variant that always starts from the worker's prior (the registry says which)."""
+    return name in SEARCHERS and SEARCHERS[name].prior == "needs"
 
 
 def main() -> None:
@@ -23,7 +30,7 @@ def main() -> None:
         for i, name in enumerate(searchers):
             line = curves[(curves["searcher"] == name) & (curves["target"] == target)]
             ax.step(line["evaluations"], line["success_rate"], where="post", color=colours(i),
-                    linestyle="--" if name.endswith("+prior") else "-", label=name)
+                    linestyle="--" if warm_started(name) else "-", label=name)
         for budget in budgets:
             ax.axvline(budget, color="grey", linewidth=0.5, alpha=0.5)
         ax.set_xscale("log")

@@ -1,5 +1,5 @@
 """The learning study's tables in Markdown, from results/learning/ only: each target, the
-verdicts (does a learner beat the random walk and random sampling, run for run, at the
+verdicts (does a learner beat the random walk and random draws, run for run, at the
 paper-rate budgets and under each mapping?), every agent's success rate, the tests' power and
 the greedy rollouts. make_tables.py puts them into results/tables.md; docs/report.md carries
 the verdicts (README.md the headline claim) and a test keeps them equal."""
@@ -11,9 +11,9 @@ import math
 import pandas as pd
 from readme_blocks import rewrite
 
-from ergohandover.learning.agents import AGENTS
+from ergohandover.search.registry import SEARCHERS
 
-AGENT_NAMES = {name: agent.label for name, agent in AGENTS.items()}
+AGENT_NAMES = {name: entry.label for name, entry in SEARCHERS.items()}
 PAPER_RATE = 315.0
 """The paper's evaluations per second (the study's ``LearningConfig.PAPER_RATE``): the
 ``mapping`` of the budgets ``paper-2min`` and ``paper-5min``."""
@@ -63,22 +63,22 @@ def step_budgets(summary: pd.DataFrame) -> list[str]:
 
 def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str],
                   learner: str = "qlearning") -> list[str]:
-    """Per target and budget: the learner's, the random walk's and random sampling's success
+    """Per target and budget: the learner's, the random walk's and random draws' success
     with intervals, and the learner against each run for run (Wilcoxon signed-rank on
     evaluations to the target with censored runs last, Holm-corrected over every comparison;
     r > 0: the learner sooner)."""
     cells = summary.set_index(["target", "agent", "budget"])
-    lines = [f"| target | budget | {AGENT_NAMES[learner]} | random walk | random sampling | "
-             f"{AGENT_NAMES[learner]} vs random walk | vs random sampling |",
+    lines = [f"| target | budget | {AGENT_NAMES[learner]} | random walk | random draws | "
+             f"{AGENT_NAMES[learner]} vs random walk | vs random draws |",
              "|---|---|---|---|---|---|---|"]
     for (target, budget), group in comparisons[(comparisons["agent"] == learner)
                                               & comparisons["budget"].isin(budgets)].groupby(
             ["target", "budget"], sort=False):
         shown = [rate(*cells.loc[(target, a, budget), ["successes", "n_runs", "ci_low",
                                                        "ci_high"]])
-                 for a in (learner, "randomwalk", "random")]
+                 for a in (learner, "randomwalk", "random-draws")]
         tests = []
-        for reference in ("randomwalk", "random"):
+        for reference in ("randomwalk", "random-draws"):
             row = group[group["versus"] == reference].iloc[0]
             tests.append(f"{row['verdict']} ({p_text(row['p_wilcoxon_holm'])}, "
                          f"r = {row['rank_biserial']:+.2f})")
@@ -96,7 +96,7 @@ def short_verdict(text: str) -> str:
 
 def mapping_table(comparisons: pd.DataFrame, budgets: list[str],
                   learner: str = "qlearning") -> list[str]:
-    """The learner against the random walk / random sampling at every budget of every
+    """The learner against the random walk / random draws at every budget of every
     mapping, one row per target."""
     at = comparisons[comparisons["agent"] == learner].set_index(["target", "budget", "versus"])
     lines = ["| target | " + " | ".join(budgets) + " |", "|---|" + "---|" * len(budgets)]
@@ -105,7 +105,7 @@ def mapping_table(comparisons: pd.DataFrame, budgets: list[str],
         for budget in budgets:
             pair = [short_verdict(at.loc[(target, budget, v), "verdict"])
                     if (target, budget, v) in at.index else "·"
-                    for v in ("randomwalk", "random")]
+                    for v in ("randomwalk", "random-draws")]
             cells.append(" / ".join(pair))
         lines.append(f"| {target} | " + " | ".join(cells) + " |")
     return lines
@@ -207,39 +207,39 @@ def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> s
     at = summary[summary["target"] == target].set_index(["agent", "budget"])
     counts = {a: " and ".join(f"{int(at.loc[(a, b), 'successes'])}/"
                               f"{int(at.loc[(a, b), 'n_runs'])}" for b in budgets)
-              for a in ("qlearning", "randomwalk", "random")}
+              for a in ("qlearning", "randomwalk", "random-draws")}
     steps = " and ".join(f"{int(at.loc[('qlearning', b), 'steps']):,}" for b in budgets)
     score = at["target_score"].iloc[0]
     return (f"at budgets matched to the paper's caps ({steps} evaluations) Q-learning reaches "
             f"the minimum ({score:g}) in {counts['qlearning']} runs, a random walk in "
-            f"{counts['randomwalk']}, random sampling in {counts['random']}; rarer targets "
+            f"{counts['randomwalk']}, random draws in {counts['random-draws']}; rarer targets "
             "tell them apart: the learning study")
 
 
 def learns(comparisons: pd.DataFrame) -> str:
     """The headline table's answer to "does it learn?": each learner's verdicts against the
-    random walk and random sampling over every target and budget (Holm-corrected)."""
+    random walk and random draws over every target and budget (Holm-corrected)."""
     def counted(agent: str, versus: str) -> tuple[int, dict]:
         rows = comparisons[(comparisons["agent"] == agent) & (comparisons["versus"] == versus)]
         return len(rows), rows["verdict"].map(short_verdict).value_counts().to_dict()
 
     q = comparisons[comparisons["agent"] == "qlearning"]
     n_walk, walk = counted("qlearning", "randomwalk")
-    n_random, random = counted("qlearning", "random")
+    n_random, random = counted("qlearning", "random-draws")
     text = (f"over {q['target'].nunique()} targets and {q['budget'].nunique()} budgets (the "
             f"paper's two caps at {q['mapping'].nunique()} rates, "
             f"{int(q['n'].min())} paired runs each, Holm-corrected), tabular Q-learning beats "
             f"a random walk in {walk.get('better', 0)} of {n_walk} comparisons (worse in "
             f"{walk.get('worse', 0)}, equivalent within ±{100 * q['margin'].iloc[0]:g} points "
             f"of success rate in {walk.get('≡', 0)}, no conclusion in {walk.get('–', 0)}) "
-            f"and random sampling in {random.get('better', 0)} of {n_random} (worse in "
+            f"and random draws in {random.get('better', 0)} of {n_random} (worse in "
             f"{random.get('worse', 0)})")
     if (comparisons["agent"] == "dqn").any():
         n_dqn, dqn = counted("dqn", "randomwalk")
-        n_dqn_random, dqn_random = counted("dqn", "random")
+        n_dqn_random, dqn_random = counted("dqn", "random-draws")
         runs = int(comparisons.loc[comparisons["agent"] == "dqn", "n"].min())
         text += (f"; DQN ({runs} runs) beats the walk in {dqn.get('better', 0)} of {n_dqn} and "
-                 f"random sampling in {dqn_random.get('better', 0)} of {n_dqn_random}")
+                 f"random draws in {dqn_random.get('better', 0)} of {n_dqn_random}")
     return text
 
 

@@ -88,11 +88,11 @@ def learning() -> list[str]:
 
 
 def verdicts(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: list[str]) -> list[str]:
-    """Q-learning against the random walk and random sampling, where they ran (the paper's own
+    """Q-learning against the random walk and random draws, where they ran (the paper's own
     protocol runs Q-learning and DQN only: its every-agent tables below compare them)."""
-    if not {"randomwalk", "random"} <= set(comparisons["versus"]):
+    if not {"randomwalk", "random-draws"} <= set(comparisons["versus"]):
         return []
-    return ["Q-learning against the random walk and random sampling (successes of runs, 95 % "
+    return ["Q-learning against the random walk and random draws (successes of runs, 95 % "
             "Wilson interval; Wilcoxon signed-rank on evaluations to the target run for run, "
             "censored runs last, Holm-corrected p; r > 0: Q-learning sooner):", "",
             *learning_tables.verdict_table(summary, comparisons, budgets), ""]

@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 from readme_blocks import rewrite
 
-NAMES = {"random": "random sampling", "prior": "the population prior alone",
+NAMES = {"random-order": "random order", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
          "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
          "randomwalk": "a random walk", "sac": "Soft Actor-Critic"}
@@ -67,7 +67,7 @@ def summary_table(summary: pd.DataFrame) -> list[str]:
 
 
 def answer(summary: pd.DataFrame) -> str:
-    """The plain answer: which searcher, how many handovers, against random sampling and the
+    """The plain answer: which searcher, how many handovers, against random order and the
     paper's Q-learning."""
     ranked = ranking(summary).set_index("searcher")
     best = ranked.index[0]
@@ -83,7 +83,7 @@ def answer(summary: pd.DataFrame) -> str:
               if b in mine.index]
     if within:
         parts.append("it has found the optimum in " + ", ".join(within) + " handovers")
-    for other in ("random", "qlearning"):
+    for other in ("random-order", "qlearning"):
         if other in ranked.index and other != best:
             row = ranked.loc[other]
             parts.append(f"{label(other)} needs "
@@ -93,14 +93,14 @@ def answer(summary: pd.DataFrame) -> str:
 
 def headline(summary: pd.DataFrame) -> str:
     """The README's row: the best searcher's median handovers to a worker's own optimum beside
-    random sampling's, the paper's learner's and Bayesian optimisation's."""
+    random order's, the paper's learner's and Bayesian optimisation's."""
     ranked = ranking(summary).set_index("searcher")
     best, first = ranked.index[0], ranked.iloc[0]
     text = (f"on {int(first['n_workers'])} sampled workers, {label(best)} reaches the "
             f"worker's own optimum in a median of "
             f"{evals(first['median_evals_to_optimum'], first['budget'])} handovers")
     others = [f"{label(o)} {evals(row['median_evals_to_optimum'], row['budget'])}"
-              for o in ("random", "qlearning", "bo+prior", "sac")
+              for o in ("random-order", "qlearning", "bo+prior", "sac")
               if o in ranked.index and o != best for row in (ranked.loc[o],)]
     return text + (f" ({', '.join(others)})" if others else "")
 

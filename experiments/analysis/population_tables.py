@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 from readme_blocks import rewrite
 
-from ergohandover.learning.statistics import wilson
+from ergohandover.search.statistics import wilson
 
 CHOICE_NAMES = {"reference": "the 50th-percentile man's optimum",
                 "mean": "lowest mean score", "p95": "lowest 95th-percentile score"}

@@ -4,7 +4,7 @@ Usage: python experiments/tools/fit_population_prior.py [WORKERS_CSV] [--output 
 
 WORKERS_CSV is the population study's ``workers.csv`` (default: the committed
 ``results/population/workers.csv``); the default output is the model the package ships,
-``src/ergohandover/learning/population_prior.json``, which ``ergohandover personalise`` reads
+``src/ergohandover/search/population_prior.json``, which ``ergohandover personalise`` reads
 when it is given a worker's stature and sex. ``tests/test_population_prior.py`` keeps the
 shipped file equal to the fit of the committed results.
 """
@@ -19,7 +19,7 @@ from pathlib import Path
 import pandas as pd
 
 from ergohandover.io.atomic import atomic_write
-from ergohandover.learning.prior import SHIPPED, PopulationPrior
+from ergohandover.search.prior import SHIPPED, PopulationPrior
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_INPUT = ROOT / "results" / "population" / "workers.csv"

@@ -18,7 +18,7 @@ from typing import Any
 
 from ..envs.handover_env import HandoverEnv
 from ..errors import ErgohandoverError
-from ..learning.qlearning import QLearningConfig
+from ..search.qlearning import QLearningConfig
 from ..study.config import (
     BaselinesConfig,
     LandscapeConfig,

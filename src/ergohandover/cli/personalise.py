@@ -1,7 +1,7 @@
 """``ergohandover personalise``: find one worker's own handover location, one handover at a time.
 
 The command is thin: it turns flags into a grid, a worker, a prior, a searcher and an oracle,
-and hands them to :mod:`ergohandover.learning.session`, which proposes, records and saves.
+and hands them to :mod:`ergohandover.search.session`, which proposes, records and saves.
 """
 
 from __future__ import annotations
@@ -138,7 +138,7 @@ def check(args: argparse.Namespace) -> None:
         raise InputError("--answer-format cannot be used with --oracle twin (only with --oracle "
                          "ask or file)")
     if args.answer_format != "score":
-        from ..learning.answers import frame_format
+        from ..search.answers import frame_format
 
         try:
             frame_format(args.answer_format, args.objective)
@@ -160,19 +160,21 @@ def check(args: argparse.Namespace) -> None:
 
 
 def registered_searchers() -> tuple[str, ...]:
-    """Every ask/tell searcher's name (registering them imports no library: each loads its own
-    when made)."""
-    from ..learning import searchers  # noqa: F401  (registers the library-backed searchers)
-    from ..learning.ask_tell import SEARCHERS
+    """The registry's ask/tell searchers (a ``+prior`` variant is this command's searcher with
+    its default prior)."""
+    from ..search.registry import names
 
-    return tuple(SEARCHERS)
+    return names("searcher", variants=False)
 
 
 def worker_prior(args: argparse.Namespace, evaluator):
-    """The population model and the worker's prior from it (None, None with --no-prior)."""
-    if args.no_prior:
+    """The population model and the worker's prior from it (None, None with --no-prior, or for
+    a searcher that takes no prior)."""
+    from ..search.registry import entry
+
+    if args.no_prior or entry(args.searcher).prior == "none":
         return None, None
-    from ..learning.prior import shipped_prior
+    from ..search.prior import shipped_prior
 
     body = evaluator.body
     population = shipped_prior()
@@ -201,7 +203,7 @@ SETTING_FLAGS = {"searcher": "--searcher", "seed": "--seed", "objective": "--obj
 def open_session(args, state: Path, settings: dict, searcher):
     """The session saved in ``state`` (or a new one there), ``searcher`` told its history; a
     state that is not this command's is refused naming the flag that differs."""
-    from ..learning.session import Session, StateError, StateMismatch
+    from ..search.session import Session, StateError, StateMismatch
 
     named = f"--state {state}" if args.state else f"--output {args.output}"
     try:
@@ -218,7 +220,7 @@ def open_session(args, state: Path, settings: dict, searcher):
 
 
 def build_oracle(args, grid, evaluator, reader, output: Path):
-    from ..learning.oracles import AskOracle, FileOracle, TwinOracle
+    from ..search.oracles import AskOracle, FileOracle, TwinOracle
 
     if args.oracle == "twin":
         return TwinOracle(grid, evaluator, args.objective)
@@ -230,8 +232,8 @@ def build_oracle(args, grid, evaluator, reader, output: Path):
 def resolve(args: argparse.Namespace):
     """The evaluator, grid, prior and searcher the flags describe, and the settings a state
     must match; every refusal is one line naming the flags."""
-    from ..learning.answers import SCORE_RANGES
-    from ..learning.ask_tell import make_searcher
+    from ..search import make
+    from ..search.answers import SCORE_RANGES
 
     check(args)
     evaluator = evaluator_from_args(args)
@@ -245,7 +247,7 @@ def resolve(args: argparse.Namespace):
                          f"--objective {args.objective}")
     population, prior = worker_prior(args, evaluator)
     try:
-        searcher = make_searcher(args.searcher, grid, args.seed, prior)
+        searcher = make(args.searcher, grid, args.seed, prior)
     except ConfigError as exc:
         raise InputError(f"--searcher {args.searcher}: {exc}") from None
     # The prior's model, not its prediction: the worker is in "evaluator", and a state read on
@@ -257,9 +259,9 @@ def resolve(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..learning.answers import AnswerReader
-    from ..learning.oracles import AnswersEnded
-    from ..learning.session import run as run_session
+    from ..search.answers import AnswerReader
+    from ..search.oracles import AnswersEnded
+    from ..search.session import run as run_session
 
     started = time.perf_counter()
     evaluator, grid, prior, searcher, settings = resolve(args)
@@ -315,7 +317,7 @@ def tidy(output: Path, session, new_folder: bool) -> None:
 
 def introduce(args, evaluator, grid, prior, session) -> None:
     """The session's settings on standard error, and where a resumed one resumes."""
-    from ..learning.oracles import in_cm
+    from ..search.oracles import in_cm
 
     body = evaluator.body
     start = "no prior" if prior is None else f"prior at {in_cm(prior.location)}"
@@ -337,7 +339,7 @@ def ending(args, session, stopped: str) -> str:
 
 def report(args, session, best, stopped: str) -> None:
     """The recommendation on standard output."""
-    from ..learning.oracles import in_cm
+    from ..search.oracles import in_cm
 
     if best is None:
         print(f"no recommendation: the worker could take the box at none of the locations "

@@ -15,9 +15,9 @@ from ..envs.handover_env import EPISODE_ENDS, EPISODE_STEPS
 from ..envs.scores import OBJECTIVES
 from ..io.csv_input import InputError
 from ..landscape.store import cached_landscape
-from ..learning.agents import AGENTS, agent, agent_env, run_agent
-from ..learning.prior import Prior, shipped_prior
-from ..learning.qlearning import TEMPERATURES, QLearningConfig
+from ..search.prior import Prior, shipped_prior
+from ..search.qlearning import TEMPERATURES, QLearningConfig
+from ..search.registry import SEARCHERS, entry
 from . import defaults
 from .options import (
     add_evaluator_arguments,
@@ -37,9 +37,10 @@ DESCRIPTION = f"""\
 Search the grid of box locations for the lowest ergonomic score with tabular Q-learning (the
 paper's: alpha {Q.alpha:g}, gamma {Q.gamma:g}, Q = 0, softmax with temperature {Q.tau:g};
 qlearning-adaptive: the paper's text's adaptive temperature), DQN (stable-baselines3), a random
-walk (the learner's moves and restarts, no learning), uniform random search, hill-climbing
-with random restarts, SAC (stable-baselines3, moves of up to 5 cells per axis), or an ask/tell
-searcher: bo (Bayesian optimisation, Optuna's GP sampler), tpe, cmaes, pso, or prior (the
+walk (the learner's moves and restarts, no learning), random draws (uniform, with replacement),
+hill-climbing with random restarts, SAC (stable-baselines3, moves of up to 5 cells per axis),
+or an ask/tell searcher: random-order (uniform, without replacement), bo (Bayesian
+optimisation, Optuna's GP sampler), tpe, cmaes, pso, their +prior variants, or prior (the
 population prior for the worker of --stature/--sex or --percentile; not with --landscape), whose
 steps are distinct evaluations, until a wall-clock or step cap.
 Scores come from --landscape (a landscape file), else from the landscape cache when the grid of
@@ -71,14 +72,14 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "train", help="learn or search the best handover location under a time or step cap",
         description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--agent", required=True, type=choice(tuple(AGENTS)),
-                        metavar="|".join(AGENTS), help="the learner, baseline or searcher")
+    parser.add_argument("--agent", required=True, type=choice(tuple(SEARCHERS)),
+                        metavar="|".join(SEARCHERS), help="the learner, walk or searcher")
     caps = parser.add_argument_group("budget (give exactly one)")
     caps.add_argument("--time-cap", type=number(0, None, "s", above=True), metavar="S",
                       help=time_cap_help())
     caps.add_argument("--steps", type=whole(1), metavar="N",
-                      help="step cap [env steps; distinct evaluations for the searchers "
-                      "bo, tpe, cmaes, pso and prior]; deterministic")
+                      help="step cap [env steps; distinct evaluations for the ask/tell "
+                      "searchers]; deterministic")
     parser.add_argument("--seed", type=whole(0), default=defaults.SEED, metavar="K",
                         help=f"seed, an integer >= 0 (default: {defaults.SEED})")
     parser.add_argument("--objective", type=choice(OBJECTIVES), default=defaults.OBJECTIVE,
@@ -120,12 +121,12 @@ def parse(args: argparse.Namespace) -> dict:
                          f"{'neither' if args.time_cap is None else 'both'})")
     name = args.agent
     if args.temperature == "adaptive":
-        if agent(name).temperature is None:
+        if "temperature" not in entry(name).options:
             raise InputError(f"--temperature adaptive cannot be used with --agent {name} "
                              "(Q-learning's only: use --agent qlearning)")
         name = "qlearning-adaptive"
-    if name == "prior" and args.landscape is not None:
-        raise InputError("--agent prior cannot be used with --landscape (its prior is the "
+    if entry(name).prior == "needs" and args.landscape is not None:
+        raise InputError(f"--agent {name} cannot be used with --landscape (its prior is the "
                          "population prior for the worker, which a landscape file does not "
                          "record)")
     config = {"agent": name, "time_cap_s": args.time_cap, "steps": args.steps,
@@ -143,8 +144,8 @@ def parse(args: argparse.Namespace) -> dict:
     return config
 
 
-def build_env(config: dict, args: argparse.Namespace):
-    """The env and what it was built from (landscape or online evaluator and grid)."""
+def build_scores(config: dict, args: argparse.Namespace):
+    """The score source and what it was built from (landscape or online evaluator and grid)."""
     from ..envs import LandscapeScores, OnlineScores
 
     if config["landscape"] is not None:
@@ -157,17 +158,16 @@ def build_env(config: dict, args: argparse.Namespace):
         scores = LandscapeScores(landscape, config["objective"])
         source = {"landscape": str(landscape.path), "landscape_key": landscape.key}
     else:
-        # Random search and the searchers jump anywhere: prefetching a cube of neighbours
-        # would be waste.
-        jumps = config["agent"] == "random" or agent(config["agent"]).searcher
+        # Only an agent that walks uses a cell's neighbours next: for one that jumps, prefetching
+        # a cube of them would be waste.
+        spec = entry(config["agent"])
+        jumps = spec.kind == "searcher" or spec.name == "random-draws"
         scores = OnlineScores(grid, evaluator, config["objective"], block=1 if jumps else 4)
         source = {"evaluator": dataclasses.asdict(evaluator)}
-    env = agent_env(config["agent"], scores, episode_end=config["episode_end"],
-                    target=config["target"])
     source["grid"] = dataclasses.asdict(scores.grid)
-    if config["agent"] == "prior":
+    if entry(config["agent"]).prior == "needs":
         source["prior"] = dataclasses.asdict(worker_prior(evaluator))
-    return env, landscape, source
+    return scores, landscape, source
 
 
 def worker_prior(evaluator) -> Prior:
@@ -181,8 +181,8 @@ def _bar(config: dict) -> tqdm:
         return tqdm(total=round(config["time_cap_s"], 1), unit="s", desc=config["agent"],
                     file=sys.stderr, disable=config["time_cap_s"] < 5,
                     bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s {postfix}")
-    spec = agent(config["agent"])
-    slow = (100 if spec.searcher else 1_000 if spec.name == "sac"
+    spec = entry(config["agent"])
+    slow = (100 if spec.kind == "searcher" else 1_000 if spec.name == "sac"
             else 10_000 if spec.name == "dqn" else 2_000_000)
     return tqdm(total=config["steps"], unit="step", unit_scale=True, desc=config["agent"],
                 file=sys.stderr, disable=config["steps"] < slow)
@@ -191,22 +191,25 @@ def _bar(config: dict) -> tqdm:
 def run(args: argparse.Namespace) -> int:
     config = parse(args)
     started = time.perf_counter()
-    env, landscape, source = build_env(config, args)
+    scores, landscape, source = build_scores(config, args)
     with _bar(config) as bar:
         def progress(steps: int, elapsed: float) -> None:
             done = min(elapsed, bar.total) if config["time_cap_s"] else steps
             bar.set_postfix_str(f"{steps:,} steps", refresh=False)
             bar.update(done - bar.n)  # redraws at most every 0.1 s
 
-        from ..learning.trace import Budget
+        from ..search import Budget, make
+        from ..search import run as run_search
 
         prior = Prior(**source["prior"]) if "prior" in source else None
-        result, agent_config = run_agent(
-            config["agent"], env, Budget(config["time_cap_s"], config["steps"]),
-            config["seed"], config["episode_steps"], progress, prior)
+        searcher = make(config["agent"], scores.grid, config["seed"], prior,
+                        episode_end=config["episode_end"], target=config["target"],
+                        episode_steps=config["episode_steps"])
+        budget = Budget.of(entry(config["agent"]).unit, config["steps"], config["time_cap_s"])
+        result = run_search(searcher, scores, budget, progress)
     output = args.output or run_folder("train")
-    from ..learning.search import exhaustive
-    from ..learning.trace import write_result
+    from ..landscape.stats import exhaustive
+    from ..search.record import write_record
 
     truth = exhaustive(landscape, config["objective"]) if landscape is not None else None
     extra = {"steps_per_s": round(result.steps / max(result.elapsed_s, 1e-9), 1)}
@@ -214,29 +217,33 @@ def run(args: argparse.Namespace) -> int:
         extra.update(global_minimum=truth.score, reached_global_minimum=bool(
             result.best_score <= truth.score))
     resolved = {**{k: (str(v) if isinstance(v, Path) else v) for k, v in config.items()},
-                **source, "agent_config": dataclasses.asdict(agent_config) if agent_config
-                else None, "output": str(output)}
-    paths = write_result(result, env.location, output, resolved,
+                **source, "agent_config": result.settings, "output": str(output)}
+    paths = write_record(result, location_of(scores.grid), output, resolved,
                          seeds={"run": config["seed"]}, extra=extra)
-    report(result, env, config, truth, time.perf_counter() - started)
+    report(result, scores.grid, config, truth, time.perf_counter() - started)
     for path in paths:
         print(f"wrote {path}", file=sys.stderr)
     return 0
 
 
-def report(result, env, config: dict, truth, wall_s: float) -> None:
+def location_of(grid):
+    """flat cell -> its (x, y, z) [m]."""
+    return lambda cell: tuple(float(v) for v in grid.coordinates([cell])[0])
+
+
+def report(result, grid, config: dict, truth, wall_s: float) -> None:
     """The run's summary on standard output."""
     objective = config["objective"]
     if math.isinf(result.best_score):
-        print(f"{result.agent} seed {config['seed']}: no feasible location seen in "
+        print(f"{result.searcher} seed {config['seed']}: no feasible location seen in "
               f"{result.steps:,} steps")
         return
     cells = list(result.best_cells)
-    from ..learning.trace import best_locations
+    from ..search.record import best_locations
 
-    top = best_locations(result, env.location).iloc[0]
+    top = best_locations(result, location_of(grid)).iloc[0]
     time_s, step = result.first_reached
-    print(f"{result.agent} seed {config['seed']}: best {objective} {result.best_score:g} at "
+    print(f"{result.searcher} seed {config['seed']}: best {objective} {result.best_score:g} at "
           f"(x, y, z) = ({top.x:.3f}, {top.y:.3f}, {top.z:.3f}) m (most symmetric of "
           f"{len(cells):,} locations found at it)")
     print(f"first reached after {time_s:.2f} s, step {step:,}; ran {result.steps:,} steps in "

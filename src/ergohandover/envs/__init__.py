@@ -10,13 +10,13 @@ import gymnasium
 
 from .continuous_env import ContinuousHandoverEnv
 from .handover_env import ACTIONS, EPISODE_STEPS, HandoverEnv
-from .scores import OBJECTIVES, LandscapeScores, OnlineScores, ScoreSource
+from .scores import OBJECTIVES, ArrayScores, LandscapeScores, OnlineScores, ScoreSource
 
 ENV_ID = "ergohandover/Handover-v0"
 CONTINUOUS_ENV_ID = "ergohandover/ContinuousHandover-v0"
 
 __all__ = ["ACTIONS", "CONTINUOUS_ENV_ID", "ENV_ID", "EPISODE_STEPS", "OBJECTIVES",
-           "ContinuousHandoverEnv", "HandoverEnv", "LandscapeScores", "OnlineScores",
+           "ArrayScores", "ContinuousHandoverEnv", "HandoverEnv", "LandscapeScores", "OnlineScores",
            "ScoreSource", "register"]
 
 

@@ -70,6 +70,28 @@ class ScoreSource(ABC):
         """The objective at cell ``flat``; ``math.inf`` if the location is infeasible."""
 
 
+class ArrayScores(ScoreSource):
+    """Scores given as an array, one per cell in flat order (``inf`` or NaN: infeasible): a
+    landscape's objective read once, or any table of scores.
+
+    Args:
+        grid: the cells.
+        values: (grid.size,) the objective.
+        objective: its name (an env's observation scale).
+    """
+
+    def __init__(self, grid: Grid, values: np.ndarray, objective: str = "paper_postural"):
+        values = np.asarray(values, dtype=np.float64)
+        if values.shape != (grid.size,):
+            raise ConfigError(f"scores: shape {values.shape} does not match the grid's "
+                              f"{grid.size} cells")
+        self.grid, self.objective = grid, check_objective(objective, lexicographic=True)
+        self._values = np.where(np.isnan(values), np.inf, values).tolist()  # list: fast reads
+
+    def score(self, flat: int) -> float:
+        return self._values[flat]
+
+
 class LandscapeScores(ScoreSource):
     """Scores read from an exhaustive landscape: one list look-up per call.
 

@@ -3,6 +3,7 @@ it is reached (count, bounding box, the most symmetric minimiser), the feasible 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -52,6 +53,31 @@ def optimum(landscape: Landscape, score: str = "paper_postural") -> tuple[np.nda
     cells = minimisers(landscape, score)
     points = landscape.grid.coordinates(cells)
     return cells, points[most_symmetric(points)]
+
+
+@dataclass(frozen=True)
+class Exhaustive:
+    """The ground truth of a landscape for one objective.
+
+    Attributes:
+        score: the lowest feasible score.
+        cells: flat indices of every cell at it.
+        location: the most symmetric of them (x, y, z) [m].
+        fraction: share of the feasible cells at the minimum.
+    """
+
+    score: float
+    cells: np.ndarray
+    location: tuple[float, float, float]
+    fraction: float
+
+
+def exhaustive(landscape: Landscape, objective: str = "paper_postural") -> Exhaustive:
+    """The landscape's minimum of ``objective`` (every cell was evaluated by the sweep): what a
+    search is measured against."""
+    cells, best = optimum(landscape, objective)
+    return Exhaustive(float(landscape.arrays[objective][cells[0]]), cells,
+                      tuple(float(v) for v in best), len(cells) / int(landscape.feasible.sum()))
 
 
 def statistics(landscape: Landscape) -> pd.DataFrame:

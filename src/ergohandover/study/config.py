@@ -20,8 +20,8 @@ from ..envs.handover_env import EPISODE_ENDS
 from ..envs.scores import LEXICOGRAPHIC, OBJECTIVES
 from ..errors import ConfigError
 from ..landscape.grid import BOUNDARY_NAMES, DEFAULT_STEP
-from ..learning.agents import AGENTS
-from ..learning.targets import GOALS
+from ..search.registry import SEARCHERS
+from ..search.targets import GOALS
 from ..twin.anthropometry import PERCENTILES, BodySpec
 from ..twin.evaluate import Evaluator
 from ..twin.task import TaskSpec
@@ -130,7 +130,7 @@ class LearningConfig:
     runs: int = setting(100, lo=1)
     dqn_runs: int = setting(20, lo=1)
     agents: tuple[str, ...] = setting(("qlearning", "qlearning-adaptive", "dqn", "randomwalk",
-                                       "random", "hillclimb"), choices=tuple(AGENTS))
+                                       "random-draws", "hillclimb"), choices=SEARCHERS)
     budgets: dict[str, int] = setting({"paper-2min": 37_800, "paper-5min": 94_500}, lo=1)
     rates: tuple[float, ...] = setting((315.0, 31.5, 3150.0), positive=True,
                                        unit="evaluations/s")
@@ -172,7 +172,7 @@ class LearnedLocation:
     """The learning part's run whose best location the baselines carry the box to."""
 
     target: str = setting("paper")
-    agent: str = setting("qlearning", choices=tuple(AGENTS))
+    agent: str = setting("qlearning", choices=SEARCHERS)
     budget: str = setting("paper-5min")
 
 
@@ -212,9 +212,10 @@ class PopulationConfig:
     bootstrap_seed: int = setting(7, lo=0)
 
 
-PERSONALISE_SEARCHERS = ("random", "prior", "bo", "bo+prior", "tpe", "tpe+prior", "cmaes",
+PERSONALISE_SEARCHERS = ("random-order", "prior", "bo+prior", "tpe", "tpe+prior", "cmaes",
                          "cmaes+prior", "pso", "pso+prior", "qlearning", "randomwalk", "sac")
-"""The personalisation study's searchers (``+prior``: warm-started by the worker's prior)."""
+"""The personalisation study's searchers by default (``+prior``: warm-started by the worker's
+prior); Bayesian optimisation without the prior is in configs/personalise_full.json."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -228,8 +229,7 @@ class PersonaliseConfig:
     runs: int = setting(10, lo=1)
     seed: int = setting(28, lo=0)
     objective: str = setting("paper_postural", choices=OBJECTIVES)
-    searchers: tuple[str, ...] = setting(tuple(s for s in PERSONALISE_SEARCHERS if s != "bo"),
-                                         choices=PERSONALISE_SEARCHERS)
+    searchers: tuple[str, ...] = setting(PERSONALISE_SEARCHERS, choices=SEARCHERS)
     budgets: tuple[int, ...] = setting((10, 25, 50, 100, 250, 1000), lo=1)
     # Bayesian optimisation's proposals cost ~0.1 s each up to 25 trials and ~0.26 s at 100 on
     # one core (the GP's refit and acquisition search), TPE's ~4-9 ms at 250-1,000, SAC's ~2 ms
@@ -241,9 +241,9 @@ class PersonaliseConfig:
 
     def __post_init__(self):
         for name in self.budget_caps:
-            if name not in PERSONALISE_SEARCHERS:
+            if name not in SEARCHERS:
                 raise ConfigError(f"personalise.budget_caps: {name!r} names no searcher (use "
-                                  f"{', '.join(PERSONALISE_SEARCHERS)})")
+                                  f"{', '.join(SEARCHERS)})")
 
     def budgets_of(self, searcher: str) -> list[int]:
         """The budgets a searcher is reported at: those up to its cap."""

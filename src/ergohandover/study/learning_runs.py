@@ -1,7 +1,7 @@
 """The runs of the learning study and what one run reports.
 
 A *target* is a landscape, the objective the agents minimise on it and the cells that count as
-the optimum (:mod:`..learning.targets`). A *budget* is a number of env steps (score
+the optimum (:mod:`..search.targets`). A *budget* is a number of env steps (score
 evaluations), equal for every agent, or a wall-clock cap. Three kinds of run:
 
 - ``search``: one run per (target, agent, run) at the agent's largest step budget, stopped at
@@ -31,19 +31,20 @@ import pandas as pd
 
 from ..envs.handover_env import HandoverEnv
 from ..envs.scores import LandscapeScores, objective_values
+from ..landscape import Landscape, landscape_key, landscape_of
 from ..landscape.grid import Grid
-from ..landscape.store import landscape_of
-from ..learning.agents import agent, run_agent
-from ..learning.rollouts import (
+from ..search import Budget, entry, make, run
+from ..search.env_agent import EnvAgent
+from ..search.record import best_locations
+from ..search.rollouts import (
     network_policy,
     random_policy,
     roll_out,
     step_limit,
     table_policy,
 )
-from ..learning.statistics import best_so_far
-from ..learning.targets import TargetCells, evaluations_to_target, target_cells
-from ..learning.trace import Budget, best_locations
+from ..search.statistics import best_so_far
+from ..search.targets import TargetCells, evaluations_to_target, target_cells
 from ..twin.evaluate import Evaluator
 from .config import StepBudget
 
@@ -58,7 +59,7 @@ class RunJob:
         target: the target's name; ``evaluator`` and ``grid`` its landscape (read through the
             landscape door, once per process), ``objective`` and ``goal`` what the agents
             minimise and which cells count.
-        agent: an agent of the registry (:data:`~..learning.agents.AGENTS`).
+        agent: a searcher of the registry (:data:`~..search.registry.SEARCHERS`).
         budget: the budget's name; ``steps`` or ``time_cap_s`` its size.
         run: the run's number within its target.
         seed: the run's seed (:func:`run_seed`: the same for every agent).
@@ -102,13 +103,14 @@ def rollout_seed(study_seed: int, target: str) -> int:
 
 
 _TARGETS: dict[tuple, tuple[LandscapeScores, TargetCells]] = {}
+"""Each target's score table and cells by (landscape key, objective, goal): filled by the parent
+(:func:`prepare_target`) before the pool forks, so that its workers inherit them."""
 
 
-def target_of(evaluator: Evaluator, grid: Grid, objective: str,
-              goal: str) -> tuple[LandscapeScores, TargetCells]:
-    """The score table the agents read and the target cells, built once per process (a worker
-    runs many jobs on one landscape)."""
-    landscape = landscape_of(evaluator, grid, progress=False)
+def prepare_target(landscape: Landscape, objective: str,
+                   goal: str) -> tuple[LandscapeScores, TargetCells]:
+    """The score table the agents read and the target cells of ``landscape``, kept for every
+    run on it in this process and in the workers forked after."""
     key = (landscape.key, objective, goal)
     if key not in _TARGETS:
         scores = LandscapeScores(landscape, objective)
@@ -117,15 +119,25 @@ def target_of(evaluator: Evaluator, grid: Grid, objective: str,
     return _TARGETS[key]
 
 
+def target_of(evaluator: Evaluator, grid: Grid, objective: str,
+              goal: str) -> tuple[LandscapeScores, TargetCells]:
+    """A job's score table and target cells: the parent's (:func:`prepare_target`), or read
+    through the landscape door in a process that has none."""
+    found = _TARGETS.get((landscape_key(evaluator, grid), objective, goal))
+    if found is not None:
+        return found
+    return prepare_target(landscape_of(evaluator, grid, progress=False), objective, goal)
+
+
 def run_job(job: RunJob) -> dict:
     """Run one job; returns its ``kind``, its row (a run's outcome) and its trace."""
     scores, target = target_of(job.evaluator, job.grid, job.objective, job.goal)
-    env = HandoverEnv(scores, observation=agent(job.agent).observation,
-                      episode_end=job.episode_end)
+    searcher = make(job.agent, job.grid, job.seed, episode_end=job.episode_end)
     stop = job.oracle_stop and job.kind == "search"
-    budget = Budget(job.time_cap_s, job.steps, stop_score=target.score if stop else None,
-                    stop_cells=target.mask if stop else None)
-    result, _ = run_agent(job.agent, env, budget, job.seed)
+    budget = Budget.of(entry(job.agent).unit, job.steps, job.time_cap_s,
+                       stop_score=target.score if stop else None,
+                       stop_cells=target.mask if stop else None)
+    result = run(searcher, scores, budget)
     reached_at = evaluations_to_target(result, target)
     row = {k: v for k, v in asdict(job).items()
            if k not in ("evaluator", "grid", "objective", "goal", "rollout_seed", "rollouts")}
@@ -136,6 +148,9 @@ def run_job(job: RunJob) -> dict:
         evaluations=result.steps, elapsed_s=round(result.elapsed_s, 3),
         steps_per_s=round(result.steps / max(result.elapsed_s, 1e-9)),
         stopped_by=result.stopped_by)
+    # The env the agent ran on (its observation, for a network's rollouts); a searcher's: the
+    # plain one, for the locations.
+    env = searcher.env(scores) if isinstance(searcher, EnvAgent) else HandoverEnv(scores)
     if job.kind != "search":  # the run kept every cell at its best score: the location
         found = best_locations(result, env.location)
         row.update({f"found_{axis}": found[axis].iloc[0] if len(found) else math.nan
@@ -148,7 +163,7 @@ def run_job(job: RunJob) -> dict:
 def rollouts_of(job: RunJob, env: HandoverEnv, result, target: TargetCells) -> dict:
     """Greedy rollouts of the run's final policy (the random walk's for ``randomwalk``) from
     the target's shared starts; the rollouts' own ties are broken with the run's seed."""
-    kind = agent(job.agent).policy
+    kind = entry(job.agent).policy
     if kind == "random":
         policy = random_policy
     elif kind == "network":

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 
 from ..landscape.stats import most_symmetric
-from ..learning.statistics import (
+from ..search.statistics import (
     best_so_far,
     bootstrap_band,
     censored_median,
@@ -25,7 +25,7 @@ from ..learning.statistics import (
 )
 
 CELL = ["target", "agent", "budget"]
-REFERENCES = ("randomwalk", "random")
+REFERENCES = ("randomwalk", "random-draws")
 """What every learner is compared with: the same moves without learning, and plain sampling."""
 CURVE_POINTS = 40
 

@@ -10,7 +10,7 @@ searcher's proposals depend on its budget, one run at the largest budget answers
 budget: a run succeeds at budget B when it reached the target within B evaluations.
 
 Runs are paired: run r of a worker has the same seed for every searcher. The population prior
-(:mod:`~ergohandover.learning.prior`) of a worker is fitted to the other workers of the
+(:mod:`~ergohandover.search.prior`) of a worker is fitted to the other workers of the
 population study (leave-one-out), so no worker's own optimum informs its prior.
 """
 
@@ -24,18 +24,15 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ..envs.scores import objective_values
+from ..envs.scores import ArrayScores, objective_values
 from ..landscape.grid import Grid
 from ..landscape.store import landscape_of
-from ..learning.ask_tell import SearchRecord, make_searcher, run_search
-from ..learning.prior import PopulationPrior, Prior
-from ..learning.statistics import censored_median, wilson
+from ..search import Budget, Record, entry, make
+from ..search import run as run_search
+from ..search.prior import PopulationPrior, Prior
+from ..search.statistics import censored_median, wilson
 from ..twin.evaluate import Evaluator
 
-ENV_AGENTS = ("qlearning", "randomwalk", "sac")
-"""Searchers that are agents of the environment (driven by their own loop, not ask/tell)."""
-WITH_PRIOR = "+prior"
-"""A searcher name's suffix for the same searcher warm-started by the worker's prior."""
 TARGETS = ("optimum", "within_1")
 
 
@@ -47,7 +44,7 @@ class PersonaliseJob:
         worker: the worker's id; ``evaluator`` and ``grid`` its landscape (read from the
             landscape cache, once per process).
         objective: what the searcher minimises.
-        searcher: a searcher name, ``+prior`` for its warm-started variant.
+        searcher: a searcher of the registry (those that need a prior get the worker's).
         budget: the largest budget [evaluations].
         seeds: one seed per run (the same for every searcher: paired runs).
         prior: the worker's leave-one-out population prior.
@@ -69,36 +66,42 @@ def run_seeds(seed: int, worker: str, runs: int) -> tuple[int, ...]:
     return tuple(int(s.generate_state(1)[0]) for s in sequence.spawn(runs))
 
 
-def uses_prior(searcher: str) -> bool:
-    return searcher == "prior" or searcher.endswith(WITH_PRIOR)
-
-
-def base_name(searcher: str) -> str:
-    return searcher.removesuffix(WITH_PRIOR)
-
-
 _VALUES: dict[str, np.ndarray] = {}
+"""Each worker's objective at every cell: filled by the parent (:func:`prepare_values`) before
+the pool forks, so that its workers inherit them."""
 
 
-def values_of(job: PersonaliseJob) -> np.ndarray:
-    """The worker's objective at every cell (``inf`` where infeasible), once per process."""
-    key = f"{job.worker}|{job.objective}|{job.grid.describe()}"
+def values_key(worker: str, objective: str, grid: Grid) -> str:
+    return f"{worker}|{objective}|{grid.describe()}"
+
+
+def prepare_values(worker: str, objective: str, landscape) -> np.ndarray:
+    """A worker's objective at every cell (``inf`` where infeasible), kept for every job on it
+    in this process and in the workers forked after."""
+    key = values_key(worker, objective, landscape.grid)
     if key not in _VALUES:
-        landscape = landscape_of(job.evaluator, job.grid, progress=False)
-        _VALUES[key] = objective_values(landscape, job.objective)
+        _VALUES[key] = objective_values(landscape, objective)
     return _VALUES[key]
 
 
-def search_once(job: PersonaliseJob, values: np.ndarray, seed: int) -> SearchRecord:
-    """One run: the searcher against the worker's landscape, stopped at the optimum."""
-    lowest = float(values.min())
-    name, prior = base_name(job.searcher), job.prior if uses_prior(job.searcher) else None
-    if name in ENV_AGENTS:
-        from ..learning.env_searches import env_search_record
+def values_of(job: PersonaliseJob) -> np.ndarray:
+    """The job's worker's objective: the parent's (:func:`prepare_values`), or read through
+    the landscape door in a process that has none."""
+    found = _VALUES.get(values_key(job.worker, job.objective, job.grid))
+    if found is not None:
+        return found
+    return prepare_values(job.worker, job.objective,
+                          landscape_of(job.evaluator, job.grid, progress=False))
 
-        return env_search_record(name, values, job.grid, job.budget, seed, stop_at=lowest)
-    searcher = make_searcher(name, job.grid, seed, prior)
-    return run_search(searcher, lambda cell: float(values[cell]), job.budget, stop_at=lowest)
+
+def search_once(job: PersonaliseJob, values: np.ndarray, seed: int) -> Record:
+    """One run: the searcher against the worker's landscape, stopped at the optimum; the
+    worker's prior goes to a searcher that needs one (the others run without)."""
+    prior = job.prior if entry(job.searcher).prior == "needs" else None
+    searcher = make(job.searcher, job.grid, seed, prior)
+    scores = ArrayScores(job.grid, values, job.objective)
+    budget = Budget(evaluations=job.budget, stop_score=float(values.min()))
+    return run_search(searcher, scores, budget)
 
 
 def run_personalise_job(job: PersonaliseJob) -> list[dict]:
@@ -109,14 +112,14 @@ def run_personalise_job(job: PersonaliseJob) -> list[dict]:
     rows = []
     for run, seed in enumerate(job.seeds):
         record = search_once(job, values, seed)
-        to_optimum, to_within = record.evaluations_to(lowest), record.evaluations_to(lowest + 1)
-        cell, best = record.best if record.best else (-1, math.inf)
+        to_optimum, to_within = record.reached_at(lowest), record.reached_at(lowest + 1)
+        cell, best = record.best or (-1, math.inf)
         x, y, z = job.grid.coordinates([cell])[0] if cell >= 0 else (math.nan,) * 3
         rows.append({"worker": job.worker, "searcher": job.searcher, "run": run, "seed": seed,
                      "optimum_score": lowest,
                      "evals_to_optimum": math.nan if to_optimum is None else to_optimum,
                      "evals_to_within_1": math.nan if to_within is None else to_within,
-                     "evaluations": len(record.cells), "best_score": best,
+                     "evaluations": record.steps, "best_score": best,
                      "best_x": round(float(x), 6), "best_y": round(float(y), 6),
                      "best_z": round(float(z), 6)})
     return rows
@@ -133,7 +136,7 @@ def leave_one_out_priors(workers: pd.DataFrame, objective: str) -> dict[str, Pri
 
 def censored_at(evaluations: np.ndarray, budget: int) -> float:
     """Median evaluations to a target at ``budget``: a run that needed more counts as never
-    reached (:func:`~ergohandover.learning.statistics.censored_median`'s rule)."""
+    reached (:func:`~ergohandover.search.statistics.censored_median`'s rule)."""
     return censored_median(np.where(evaluations > budget, np.nan, evaluations))
 
 

@@ -20,7 +20,7 @@ from scipy import stats
 
 from ..errors import ConfigError
 from ..landscape.stats import most_symmetric
-from ..learning.statistics import bootstrap_band, wilson
+from ..search.statistics import bootstrap_band, wilson
 from .validation import CONDITIONS
 
 CHOICES = ("reference", "mean", "p95")

@@ -1,5 +1,5 @@
 """Study part `learning`: can the learners be told apart? Tabular Q-learning (fixed and adaptive
-temperature), DQN, a random walk, uniform random sampling and hill-climbing (the agents the
+temperature), DQN, a random walk, random draws and hill-climbing (the agents the
 configuration names, not every agent of the registry) get the same budgets on targets from
 easy to as rare as the paper's, in paired runs: run r of a target has one seed for every agent.
 
@@ -12,11 +12,11 @@ so its 2- and 5-minute caps are ~37,800 and ~94,500 evaluations (``paper-2min``,
 Each agent but DQN runs ``runs`` times per target once, at its largest budget, and stops at its
 first target cell: a run with a smaller cap is the first part of that run, and target cells are
 at the objective's minimum, so every smaller budget is read from it with nothing changed
-(:mod:`..learning_runs`). DQN (~0.4 ms a step) runs ``dqn_runs`` times on ``dqn_targets`` at the
-paper's rate only. ``full_runs`` runs per agent and paper-rate budget go to the cap: the best
+(:mod:`..learning_runs`). DQN (a network update a step) runs ``dqn_runs`` times on ``dqn_targets``
+at the paper's rate only. ``full_runs`` runs per agent and paper-rate budget go to the cap: the best
 location the agent keeps and the greedy rollouts of its policy. Episodes end only by truncation
-(``episode_end: none``): the paper's rule (end at a score of at most 4) tells the learner where
-its landscape's optimum is and teaches the greedy policy to avoid it (docs/learning.md).
+(``episode_end: none``): the paper's rule (end at a score of at most 4) tells the learner where its
+landscape's optimum is and teaches the greedy policy to avoid it (docs/learning.md).
 
 The paper's own protocol (10 runs at 2 and 5 minutes of wall clock, Q-learning and DQN) is
 experiments/configs/paper.json: ``wall_caps_s`` on the ``wall_targets``.
@@ -25,7 +25,7 @@ Writes results/learning/: targets.csv (each target's cells), runs.csv (one row p
 agent, budget and run), traces.csv (every search and wall run's best-so-far trace),
 full_runs.csv (the runs that went to their cap: locations, rollouts), summary.csv (per target,
 agent and budget: success rate with Wilson 95 % interval, median evaluations to the target),
-comparisons.csv (each learner against the random walk and random sampling, run for run, Holm
+comparisons.csv (each learner against the random walk and random draws, run for run, Holm
 over the whole family, an equivalence test, a verdict), power.csv (each test's power at the
 numbers of runs), curves.csv (bootstrap bands), found.csv (the best location each agent kept),
 manifest.json.
@@ -36,48 +36,59 @@ from __future__ import annotations
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
 import pandas as pd
 from tqdm import tqdm
 
-from ...envs.handover_env import HandoverEnv
-from ...envs.scores import LandscapeScores, objective_values
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
 from ...landscape.grid import Grid
-from ...learning.agents import LEARNERS, agent
-from ...learning.targets import target_cells
+from ...search.registry import LEARNERS, entry
 from ...twin.evaluate import Evaluator
 from ..config import LearningConfig, StepBudget, StudyConfig, Target, wall_budget_name
 from ..engines import Engine
-from ..learning_runs import RunJob, rollout_seed, run_job, run_seed, run_table, trace_table
+from ..learning_runs import (
+    RunJob,
+    prepare_target,
+    rollout_seed,
+    run_job,
+    run_seed,
+    run_table,
+    trace_table,
+)
 from ..learning_summary import comparisons, curves, found_locations, power, summary
 from ..resume import run_part
 from ..script import duration
 from . import landscape as landscape_part
 from .shared import grid_of, landscape
 
-STEPS_PER_S = {"dqn": 3_240, "qlearning": 657_000, "qlearning-adaptive": 634_000,
-               "randomwalk": 2_720_000, "random": 5_440_000, "hillclimb": 1_370_000}
-"""Speeds for the time estimate and the progress bar [steps/s] on one free core: the runs' own
-times in the first default study with paired runs (``elapsed_s`` fitted against evaluations
-and grid size), corrected for that machine's load (the runs' times summed to twice the part's
-CPU time), then scaled by each agent's median speed over the same runs on the machine of the
-committed study (DQN 2.49x, Q-learning 1.73x, its adaptive version 1.63x, the random walk
-1.65x, hill-climbing 1.10x; random sampling, whose runs are too short to time, as the walk);
-another agent is costed as the slower table learner."""
-SEARCH_STEPS = {"dqn": 13_000, "qlearning": 56_500, "qlearning-adaptive": 55_700,
-                "randomwalk": 61_100, "random": 3_400, "hillclimb": 6_700}
-"""Mean evaluations of a search run stopped at the target (capped by its budget) over the
-default targets in that study: what a search run costs besides its start."""
-JOB_OVERHEAD_S = {"dqn": 1.5, "other": 0.01}
-"""A run's cost besides its steps [s]: starting the agent (SB3 builds its networks), the
-rollouts, handing the result back to the pool."""
-SERIAL_S = 25.0
-"""The part's work outside the pool [s]: reading the targets' landscapes, the tables (the
-power's exact sums, the bootstrap bands)."""
+
+@dataclass(frozen=True)
+class Speeds:
+    """What each agent's runs cost, as its runs in a finished learning part took them: its
+    median speed [steps/s] and the mean steps of a search run stopped at its target (capped by
+    its budget). An agent without such runs is not measured, and nothing is guessed for it."""
+
+    steps_per_s: dict[str, float]
+    search_steps: dict[str, float]
+
+    @classmethod
+    def read(cls, folder: Path) -> Speeds:
+        """The speeds of the part's runs.csv in ``folder`` (none if there is none)."""
+        try:
+            runs = pd.read_csv(folder / "runs.csv")
+        except (OSError, ValueError):
+            return cls({}, {})
+        runs = runs[runs["steps_per_s"] > 0]
+        own = runs[runs["budget"] == runs["run_budget"]]  # a search run's own row
+        return cls(runs.groupby("agent")["steps_per_s"].median().to_dict(),
+                   own.groupby("agent")["evaluations"].mean().to_dict())
+
+    def measured(self, jobs: list[RunJob]) -> bool:
+        return all(job.agent in self.steps_per_s for job in jobs)
 
 
 def target_model(config: StudyConfig, target: Target) -> tuple[Evaluator, Grid]:
@@ -88,11 +99,11 @@ def target_model(config: StudyConfig, target: Target) -> tuple[Evaluator, Grid]:
                               target.grid.step or config.landscape.step)
 
 
-CHEAP = ("qlearning", "qlearning-adaptive", "randomwalk", "random", "hillclimb")
+CHEAP = ("qlearning", "qlearning-adaptive", "randomwalk", "random-draws", "hillclimb")
 """Agents whose step costs microseconds and whose run with a smaller step cap is the first part
 of the run with a larger one (tests/test_learning_power.py): they run at every budget, from
-one run at the largest. Any other agent (DQN, ~0.4 ms a step) is run as DQN is: ``dqn_runs``
-runs on ``dqn_targets`` at the paper's rate."""
+one run at the largest. Any other agent (DQN: a network update a step) is run as DQN is:
+``dqn_runs`` runs on ``dqn_targets`` at the paper's rate."""
 
 
 def cheap(name: str) -> bool:
@@ -105,8 +116,9 @@ def budgets_of(learning: LearningConfig, name: str) -> list[StepBudget]:
     return learning.step_budgets(None if cheap(name) else learning.PAPER_RATE)
 
 
-def plan_jobs(config: StudyConfig) -> list[RunJob]:
-    """Every run of the study, the longest first (so that the pool ends together)."""
+def plan_jobs(config: StudyConfig, speeds: Speeds | None = None) -> list[RunJob]:
+    """Every run of the study, the longest first at ``speeds`` (so that the pool ends
+    together), else the most steps first."""
     learning = config.learning
     jobs = []
     for target in learning.targets:
@@ -114,7 +126,9 @@ def plan_jobs(config: StudyConfig) -> list[RunJob]:
         for name in learning.agents:
             if cheap(name) or target.name in learning.dqn_targets:
                 jobs += agent_jobs(learning, target, evaluator, grid, name)
-    return sorted(jobs, key=job_seconds, reverse=True)
+    if speeds is None or not speeds.measured(jobs):
+        return sorted(jobs, key=lambda j: j.time_cap_s or j.steps, reverse=True)
+    return sorted(jobs, key=partial(job_seconds, speeds=speeds), reverse=True)
 
 
 def agent_jobs(learning: LearningConfig, target: Target, evaluator: Evaluator, grid: Grid,
@@ -134,7 +148,7 @@ def agent_jobs(learning: LearningConfig, target: Target, evaluator: Evaluator, g
                  for run in range(runs)]
     paper = learning.step_budgets(learning.PAPER_RATE) if cheap(name) else []
     for budget in paper:
-        rollouts = learning.rollouts if budget == paper[-1] and agent(name).policy else 0
+        rollouts = learning.rollouts if budget == paper[-1] and entry(name).policy else 0
         jobs += [job(budget.name, budget.steps, None, run, seed(run), "full", rollouts=rollouts)
                  for run in range(learning.full_runs)]
     if target.name in learning.wall_targets:
@@ -143,23 +157,27 @@ def agent_jobs(learning: LearningConfig, target: Target, evaluator: Evaluator, g
     return jobs
 
 
-def job_seconds(job: RunJob) -> float:
-    """A rough wall time of one job [s], for ordering and the estimate: its steps (a search
-    run's typical ones when it stops at the target) at its agent's speed, plus its start."""
-    # A tabular learner's Q-table is allocated once per process and zeroed after each run
-    # (learning/qlearning.py), so it costs a run nothing more than its steps.
-    overhead = JOB_OVERHEAD_S.get(job.agent, JOB_OVERHEAD_S["other"])
+def job_seconds(job: RunJob, speeds: Speeds) -> float:
+    """A job's wall time [s] at its agent's measured speed (its steps, or a search run's
+    typical ones when it stops at the target); a job of an agent not measured counts 1 s."""
     if job.time_cap_s is not None:
-        return job.time_cap_s + overhead
+        return job.time_cap_s
+    rate = speeds.steps_per_s.get(job.agent)
+    if rate is None:
+        return 1.0
     steps = job.steps
     if job.kind == "search" and job.oracle_stop:
-        steps = min(steps, SEARCH_STEPS.get(job.agent, steps))
-    return steps / STEPS_PER_S.get(job.agent, STEPS_PER_S["qlearning"]) + overhead
+        steps = min(steps, speeds.search_steps.get(job.agent, steps))
+    return steps / rate
 
 
-def estimate_s(config: StudyConfig, workers: int) -> float:
-    """The part's rough wall time on ``workers`` processes [s] (its landscapes cached)."""
-    return sum(job_seconds(j) for j in plan_jobs(config)) / max(1, workers) + SERIAL_S
+def estimate_s(config: StudyConfig, workers: int, folder: Path) -> float | None:
+    """The part's runs' wall time on ``workers`` processes [s] at the speeds of the runs in
+    ``folder`` (a finished learning part), or None where an agent was never measured."""
+    speeds, jobs = Speeds.read(folder), plan_jobs(config)
+    if not speeds.measured(jobs):
+        return None
+    return sum(job_seconds(j, speeds) for j in jobs) / max(1, workers)
 
 
 @contextmanager
@@ -182,12 +200,12 @@ def ticking(bar: tqdm, every_s: float = 1.0) -> Iterator[None]:
 
 
 def target_table(config: StudyConfig, found: dict[str, Landscape]) -> pd.DataFrame:
-    """targets.csv: each target's landscape, objective, goal and cells."""
+    """targets.csv: each target's landscape, objective, goal and cells (computed here once, for
+    this process and the workers it forks: :func:`~..learning_runs.prepare_target`)."""
     rows = []
     for target in config.learning.targets:
         landscape = found[target.name]
-        env = HandoverEnv(LandscapeScores(landscape, target.objective))
-        cells = target_cells(env, objective_values(landscape, target.objective), target.goal)
+        _, cells = prepare_target(landscape, target.objective, target.goal)
         rows.append({"target": target.name, "objective": target.objective, "goal": target.goal,
                      "worker": target.worker, "gaze": target.gaze or config.landscape.gaze,
                      "grid": landscape.grid.describe(), "grid_cells": landscape.grid.size,
@@ -240,16 +258,20 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                  for t in config.learning.targets}
         targets = target_table(config, found)
         atomic_write_csv(targets, folder / "targets.csv")
-        jobs = plan_jobs(config)
-        print(f"  {len(jobs)} runs, estimated {duration(estimate_s(config, engine.workers))} "
-              f"on {engine.workers} workers")
+        speeds = Speeds.read(results / "learning")  # the last run's, before it is replaced
+        jobs = plan_jobs(config, speeds)
+        measured = speeds.measured(jobs)
+        cost = [job_seconds(job, speeds) if measured else 1.0 for job in jobs]
+        took = (f"about {duration(sum(cost) / max(1, engine.workers))} at the last run's speeds"
+                if measured else "not measured yet")
+        print(f"  {len(jobs)} runs on {engine.workers} workers: {took}")
         done = []
-        # The bar counts estimated seconds of work, not runs: the runs differ 1,000-fold in
-        # length and the longest go first, so a count of runs would promise hours at the start.
-        cost = [job_seconds(job) for job in jobs]
+        # The bar counts estimated seconds of work where the speeds are known, not runs: the
+        # runs differ 1,000-fold in length and the longest go first, so a count of runs would
+        # promise hours at the start.
         # The pool forks before the bar's clock thread starts (a fork copies no threads).
         with engine.executor() as executor, \
-                tqdm(total=round(sum(cost), 1), desc="learning", unit="s", smoothing=0,
+                tqdm(total=round(sum(cost), 1), desc="learning", smoothing=0,
                      bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
                      ) as bar, ticking(bar):
             bar.set_description_str(f"learning (0/{len(jobs)} runs)")

@@ -5,7 +5,7 @@ a person. On the population study's first workers (each with the twin's landscap
 population's grid standing in for the person), every searcher — the population prior alone,
 Bayesian optimisation (Optuna's GP sampler, the infeasible region as a constraint), TPE,
 CMA-ES, particle-swarm optimisation, Soft Actor-Critic, tabular Q-learning, a random walk and
-random sampling; ``+prior``: warm-started by the worker's prior — gets paired, seeded runs
+random order; ``+prior``: warm-started by the worker's prior — gets paired, seeded runs
 until it evaluates a cell at the worker's own minimum of the objective or spends the largest
 budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
 within B evaluations).
@@ -24,6 +24,7 @@ Writes results/personalise/:
 
 from __future__ import annotations
 
+import json
 import time
 from pathlib import Path
 
@@ -31,7 +32,6 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from ...envs.scores import objective_values
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
 from ...twin.evaluate import Evaluator
@@ -39,8 +39,8 @@ from ..config import StudyConfig
 from ..engines import Engine
 from ..personalise import (
     PersonaliseJob,
-    base_name,
     leave_one_out_priors,
+    prepare_values,
     run_personalise_job,
     run_seeds,
     success_curves,
@@ -52,16 +52,14 @@ from . import population as population_part
 from .population import workforce_of
 from .shared import grid_of, landscapes
 
-COSTLY = ("bo", "sac", "tpe")
-"""Searchers by cost per evaluation, the costliest first (experiments/bench_searchers.py)."""
-
 
 def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
                  objective: str) -> pd.DataFrame:
-    """workers.csv: each worker's body, own optimum and prior."""
+    """workers.csv: each worker's body, own optimum and prior (each worker's objective computed
+    here once, for this process and the workers it forks: :func:`~..personalise.prepare_values`)."""
     rows = []
     for (_, worker), landscape in zip(workers.iterrows(), found, strict=True):
-        values = objective_values(landscape, objective)
+        values = prepare_values(worker["worker"], objective, landscape)
         lowest = float(values.min())
         cells = np.flatnonzero(values == lowest)
         points = landscape.grid.coordinates(cells)
@@ -97,9 +95,10 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         workers = worker_table(chosen, found, priors, part.objective)
         atomic_write_csv(workers, folder / "workers.csv")
         largest = {s: max(part.budgets_of(s)) for s in part.searchers}
-        # The costly searchers first, so that the pool's processes finish together.
-        searchers = sorted(part.searchers, key=lambda s: COSTLY.index(base_name(s))
-                           if base_name(s) in COSTLY else len(COSTLY))
+        # The costliest searchers first (by the last run's own times, where there was one), so
+        # that the pool's processes finish together.
+        took = earlier_seconds(results / "personalise")
+        searchers = sorted(part.searchers, key=lambda s: -took.get(s, 0.0))
         jobs = [PersonaliseJob(w, e, grid, part.objective, s, largest[s],
                                run_seeds(part.seed, w, part.runs), priors[w])
                 for s in searchers for w, e in zip(chosen["worker"], evaluators, strict=True)]
@@ -131,6 +130,15 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
 
     return run_part("personalise", results / "personalise", config.part_inputs("personalise"),
                     work, seeds={"runs": part.seed}, force=force, engine=engine)
+
+
+def earlier_seconds(folder: Path) -> dict[str, float]:
+    """Each searcher's time in the part's last run (its manifest's), or nothing."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+        return dict(manifest["searcher_seconds"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
 
 
 def timed_job(job: PersonaliseJob) -> tuple[list[dict], float]:

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from ..envs.continuous_env import ContinuousHandoverEnv
 from ..envs.handover_env import EPISODE_STEPS
 from ..errors import ConfigError
+from .record import Budget, Progress, Record
 from .sb3_run import learn_within
-from .trace import Budget, Progress, RunResult
 
 CHECK_EVERY = 64
 """Steps between clock checks and progress updates: ~0.1-0.5 s of SAC (a few hundred steps/s),
@@ -60,7 +60,7 @@ class SACConfig:
 
 
 def run_sac(env, budget: Budget, seed: int, config: SACConfig | None = None,
-            progress: Progress | None = None) -> RunResult:
+            progress: Progress | None = None) -> Record:
     """Train SB3's SAC on ``env`` until the budget is spent; keep the lowest score seen.
 
     Args:

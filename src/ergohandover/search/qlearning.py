@@ -21,7 +21,7 @@ import numpy as np
 
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..errors import ConfigError
-from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+from .record import BLOCK, Budget, Progress, Record, Tracker
 
 TEMPERATURES = ("fixed", "adaptive")
 
@@ -104,7 +104,7 @@ def zeroed_table(length: int) -> array:
 
 
 def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None = None,
-                  progress: Progress | None = None) -> RunResult:
+                  progress: Progress | None = None) -> Record:
     """Learn on ``env`` until the budget is spent; keep the lowest score seen.
 
     Args:
@@ -123,7 +123,7 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
     env.reset(seed=env_seed)
     cell = base.cell
     score = base.scores.score(cell)
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    best = Tracker.of(base.location, budget)
     done = best.offer(0, score, cell)
     size = base.grid.size
     q = zeroed_table(6 * size)
@@ -196,4 +196,4 @@ def run_qlearning(env, budget: Budget, seed: int, config: QLearningConfig | None
     _SPARE[len(q)] = q
     info = {"episodes": episodes, "final_temperature": round(tau, 6),
             "visited_states": len(states)}
-    return finish("qlearning", best, steps, budget, info, (states, values))
+    return best.finish("qlearning", steps, budget, info, q_table=(states, values))

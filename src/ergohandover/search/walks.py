@@ -1,23 +1,34 @@
-"""Search baselines on the learners' budget: a random walk (the learner's moves and restarts
-without the learning), uniform random search, greedy hill-climbing with random restarts, and
-exhaustive search (the landscape's minimum: the ground truth)."""
+"""Walks through the environment on the learners' budget, without learning: a random walk (the
+learner's moves and restarts), random draws (uniform, with replacement) and greedy hill-climbing
+with random restarts. Each is run like a learner (:mod:`.env_agent`):
+``run(env, budget, seed, config, progress) -> Record``."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
-from ..landscape import Landscape
-from ..landscape.stats import optimum
+from ..errors import ConfigError
 from .qlearning import seeds_of
-from .trace import BLOCK, BestSoFar, Budget, Progress, RunResult, finish
+from .record import BLOCK, Budget, Progress, Record, Tracker
 
 
-def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_STEPS,
-                  progress: Progress | None = None) -> RunResult:
+@dataclass(frozen=True)
+class WalkConfig:
+    """The random walk's one setting: steps after which an episode is cut and restarted at a
+    random cell (the learners')."""
+
+    episode_steps: int = EPISODE_STEPS
+
+    def __post_init__(self):
+        if self.episode_steps < 1:
+            raise ConfigError(f"episode_steps = {self.episode_steps} is outside the valid range "
+                              "(at least 1)")
+
+
+def run_randomwalk(env, budget: Budget, seed: int, config: WalkConfig | None = None,
+                   progress: Progress | None = None) -> Record:
     """Walk the grid with uniformly random actions: Q-learning's moves, episode ends and random
     restarts, without the learning (what the tabular learner does while its Q-table is flat).
 
@@ -25,15 +36,16 @@ def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_
         env: a :class:`HandoverEnv` (possibly wrapped; its transition is used directly).
         budget: time and/or step cap (one step = one transition, as for the learners).
         seed: the run's seed (the env's starts and the agent's actions, as Q-learning's).
-        episode_steps: steps after which an episode is cut and restarted at a random cell.
+        config: its episode truncation (default: the learners').
         progress: called every :data:`BLOCK` steps.
     """
+    episode_steps = (config or WalkConfig()).episode_steps
     base: HandoverEnv = env.unwrapped
     env_seed, rng = seeds_of(seed)
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
     cell = base.cell
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    best = Tracker.of(base.location, budget)
     done = best.offer(0, score_of(cell), cell)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, in_episode, episodes = 0, best.best, 0, 1
@@ -58,22 +70,25 @@ def run_randomwalk(env, budget: Budget, seed: int, episode_steps: int = EPISODE_
                         break
         if progress:
             progress(steps, best.elapsed())
-    return finish("randomwalk", best, steps, budget, {"episodes": episodes})
+    return best.finish("randomwalk", steps, budget, {"episodes": episodes})
 
 
-def run_random(env, budget: Budget, seed: int, progress: Progress | None = None) -> RunResult:
-    """Score uniformly random cells (with replacement); one step = one score evaluation.
+def run_random_draws(env, budget: Budget, seed: int, config: None = None,
+                     progress: Progress | None = None) -> Record:
+    """Score uniformly random cells, with replacement; one step = one score read (a repeat
+    costs a step, unlike :mod:`.random_order`).
 
     Args:
         env: a :class:`HandoverEnv` (its score source and grid are used).
         budget: time and/or step cap.
         seed: the run's seed (the cells are pre-drawn in blocks from one Generator).
+        config: none (the signature of every run).
         progress: called every :data:`BLOCK` steps.
     """
     base: HandoverEnv = env.unwrapped
     _, rng = seeds_of(seed)
     score, size = base.scores.score, base.grid.size
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    best = Tracker.of(base.location, budget)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     steps, best_score, done = 0, math.inf, False
     while not done and steps < step_limit and best.elapsed() < time_limit:
@@ -87,10 +102,11 @@ def run_random(env, budget: Budget, seed: int, progress: Progress | None = None)
                     break
         if progress:
             progress(steps, best.elapsed())
-    return finish("random", best, steps, budget)
+    return best.finish("random-draws", steps, budget)
 
 
-def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = None) -> RunResult:
+def run_hillclimb(env, budget: Budget, seed: int, config: None = None,
+                  progress: Progress | None = None) -> Record:
     """Steepest ascent of the env's reward over the 6-neighbourhood, restarted at a random cell
     (the env's reset) at every local optimum or terminal cell.
 
@@ -102,13 +118,14 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
         env: a :class:`HandoverEnv` (possibly wrapped).
         budget: time and/or step cap.
         seed: the run's seed (the env's random starts).
+        config: none (the signature of every run).
         progress: called about every :data:`BLOCK` steps.
     """
     base: HandoverEnv = env.unwrapped
     env_seed, _ = seeds_of(seed)
     env.reset(seed=env_seed)
     transition, score_of = base.transition, base.scores.score
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    best = Tracker.of(base.location, budget)
     step_limit, time_limit = budget.step_limit, budget.time_limit
     cell = base.cell
     here, best_score = base.reward(cell), score_of(cell)
@@ -148,28 +165,4 @@ def run_hillclimb(env, budget: Budget, seed: int, progress: Progress | None = No
             cell, here = move, move_reward
     if progress:
         progress(steps, best.elapsed())
-    return finish("hillclimb", best, steps, budget, {"restarts": restarts})
-
-
-@dataclass(frozen=True)
-class Exhaustive:
-    """The ground truth of a landscape for one objective.
-
-    Attributes:
-        score: the lowest feasible score.
-        cells: flat indices of every cell at it.
-        location: the most symmetric of them (x, y, z) [m].
-        fraction: share of the feasible cells at the minimum.
-    """
-
-    score: float
-    cells: np.ndarray
-    location: tuple[float, float, float]
-    fraction: float
-
-
-def exhaustive(landscape: Landscape, objective: str = "paper_postural") -> Exhaustive:
-    """Read the landscape's minimum of ``objective`` (every cell was evaluated by the sweep)."""
-    cells, best = optimum(landscape, objective)
-    return Exhaustive(float(landscape.arrays[objective][cells[0]]), cells,
-                      tuple(float(v) for v in best), len(cells) / int(landscape.feasible.sum()))
+    return best.finish("hillclimb", steps, budget, {"restarts": restarts})

@@ -10,7 +10,7 @@ reward is the env's ``1/E² + S``) and succeed at the first evaluation of a targ
   own reason for it: ties). These cells are a subset of the minimum, which is checked.
 
 Because every target cell is at the objective's minimum, an agent's run records every target
-cell it evaluated (:attr:`~.trace.RunResult.best_cells`, with the step it was first seen), so
+cell it evaluated (:attr:`~.trace.Record.best_cells`, with the step it was first seen), so
 success and evaluations-to-target are read from the run without touching the agents' loops.
 """
 
@@ -23,7 +23,7 @@ import numpy as np
 from ..envs.handover_env import HandoverEnv
 from ..errors import ConfigError
 from ..landscape.stats import most_symmetric
-from .trace import RunResult
+from .record import Record
 
 GOALS = ("minimum", "reward")
 
@@ -76,7 +76,7 @@ def target_cells(env: HandoverEnv, values: np.ndarray, goal: str) -> TargetCells
                        tuple(float(v) for v in best.round(6)))
 
 
-def evaluations_to_target(result: RunResult, target: TargetCells) -> int | None:
+def evaluations_to_target(result: Record, target: TargetCells) -> int | None:
     """The step at which the run first evaluated a target cell; None if it never did."""
     steps = [step for cell, step in result.best_cells.items() if target.mask[cell]]
     return min(steps) if steps else None

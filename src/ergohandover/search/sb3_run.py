@@ -13,7 +13,7 @@ from collections.abc import Callable
 import gymnasium as gym
 
 from .qlearning import seeds_of
-from .trace import BestSoFar, Budget, Progress, RunResult, finish
+from .record import Budget, Progress, Record, Tracker
 
 UNBOUNDED_STEPS = 10**9
 """``total_timesteps`` given to SB3 under a time cap only (the callback stops it first)."""
@@ -28,7 +28,7 @@ class Watch(gym.Wrapper):
         best: the run's record.
     """
 
-    def __init__(self, env, best: BestSoFar):
+    def __init__(self, env, best: Tracker):
         super().__init__(env)
         self.best, self.steps = best, 0
 
@@ -52,7 +52,7 @@ ModelFactory = Callable[[gym.Env, int, int], object]
 
 def learn_within(agent: str, base, make: ModelFactory, budget: Budget, seed: int,
                  episode_steps: int, threads: int, check_every: int,
-                 progress: Progress | None = None) -> RunResult:
+                 progress: Progress | None = None) -> Record:
     """Train the model ``make`` builds on ``base`` (truncated after ``episode_steps``) until
     the budget is spent or its stop is reached; keep the lowest score seen.
 
@@ -71,7 +71,7 @@ def learn_within(agent: str, base, make: ModelFactory, budget: Budget, seed: int
     from stable_baselines3.common.callbacks import BaseCallback
 
     torch.set_num_threads(threads)
-    best = BestSoFar(base.location, budget.stop_score, budget.stop_cells)
+    best = Tracker.of(base.location, budget)
     watched = Watch(gym.wrappers.TimeLimit(base, episode_steps), best)
 
     class Caps(BaseCallback):
@@ -90,4 +90,4 @@ def learn_within(agent: str, base, make: ModelFactory, budget: Budget, seed: int
     model.learn(total_timesteps=total, callback=Caps(), progress_bar=False)
     if progress:
         progress(model.num_timesteps, best.elapsed())
-    return finish(agent, best, model.num_timesteps, budget, {}, model=model)
+    return best.finish(agent, model.num_timesteps, budget, {}, model=model)

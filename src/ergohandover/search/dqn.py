@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..errors import ConfigError
+from .record import BLOCK, Budget, Progress, Record
 from .sb3_run import learn_within
-from .trace import BLOCK, Budget, Progress, RunResult
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class DQNConfig:
 
 
 def run_dqn(env, budget: Budget, seed: int, config: DQNConfig | None = None,
-            progress: Progress | None = None) -> RunResult:
+            progress: Progress | None = None) -> Record:
     """Train SB3's DQN on ``env`` until the budget is spent; keep the lowest score seen.
 
     Args:

@@ -8,7 +8,7 @@ grid steps.
 Every evaluation is a real handover, and a repeat teaches nothing on a deterministic landscape
 and little in the field, so :class:`NewCellSearcher` proposes only cells it has not been told
 about: what an optimiser would re-propose is answered from memory inside the searcher, and
-``run_search`` then counts one evaluation per ask.
+:class:`~.protocol.Evaluations` then counts one evaluation per ask.
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..landscape.grid import Grid
-from .ask_tell import Searcher, finite_or_inf
 from .prior import Prior
+from .protocol import AskTellSearcher, finite_or_inf
 
 
 def prior_point(grid: Grid, prior: Prior) -> tuple[np.ndarray, np.ndarray]:
@@ -32,7 +32,7 @@ def prior_point(grid: Grid, prior: Prior) -> tuple[np.ndarray, np.ndarray]:
     return np.clip(centre, 0, hi), np.asarray(prior.sd, float) / grid.step
 
 
-class NewCellSearcher(Searcher):
+class NewCellSearcher(AskTellSearcher):
     """A searcher whose every ask is a cell not yet evaluated.
 
     Subclasses implement :meth:`_propose` (a cell not in :attr:`told`) and :meth:`_learn`.

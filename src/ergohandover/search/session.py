@@ -4,8 +4,8 @@ Each trial is a real handover, so an answer must never be lost and a session mus
 interruption (a break, a closed terminal, Ctrl-C). The session's state is a small JSON file
 written atomically after every answer: the settings that fix what the searcher proposes and
 what a score means, and the history of what it was told. A searcher is deterministic given its
-seed and its history (:mod:`.ask_tell`), so a rerun with the same settings rebuilds it by
-:func:`~.ask_tell.replay` and proposes exactly what the interrupted session would have proposed
+seed and its history (:mod:`.protocol`), so a rerun with the same settings rebuilds it by
+:func:`~.protocol.replay` and proposes exactly what the interrupted session would have proposed
 next. A state made with other settings is refused: its answers would mean something else.
 
 State file (JSON)::
@@ -13,12 +13,14 @@ State file (JSON)::
     {"format": "ergohandover personalise state", "version": 1,
      "settings": {"searcher", "seed", "objective", "evaluator", "grid", "prior"},
      "posture_header": null or [column, ...],
-     "history": [{"trial": 1 (null: a repeat), "cell", "x", "y", "z" [m],
+     "history": [{"trial": 1, "cell", "x", "y", "z" [m],
                   "score" (null: infeasible), "answer", "answered_at"}, ...]}
 
-The history holds every answer the searcher was told, in order, repeats included: a searcher
-may propose a location it was told about before, and is then told the known answer again
-without a new handover (a repeat is no trial), as :func:`~.ask_tell.run_search` does.
+The history holds every trial (a real handover) in order. A searcher may propose a location it
+was told about before: it is then told the known answer again without a new handover, and
+nothing is written (:class:`~.protocol.Evaluations`; files of an earlier version list such
+repeats with ``trial`` null, which are read and skipped: :func:`~.protocol.replay` answers them
+from memory again).
 """
 
 from __future__ import annotations
@@ -33,16 +35,16 @@ from typing import Any
 
 import pandas as pd
 
+from ..envs.scores import ScoreSource
 from ..errors import ErgohandoverError
 from ..io.atomic import atomic_write
-from .ask_tell import Searcher, replay
 from .oracles import Oracle, Proposal
+from .protocol import AskTellSearcher, replay
+from .protocol import run as run_search
+from .record import Budget
 
 FORMAT = "ergohandover personalise state"
 VERSION = 1
-ASKS_PER_TRIAL = 20
-"""Proposals allowed per trial, repeats included (as :func:`~.ask_tell.run_search`): a searcher
-that keeps proposing known locations ends the session instead of looping."""
 TRIAL_COLUMNS = ("trial", "x", "y", "z", "feasible", "score", "answer", "answered_at")
 
 
@@ -59,12 +61,11 @@ class StateMismatch(ErgohandoverError, ValueError):
 
 
 @dataclass(frozen=True)
-class Record:
-    """One answer the searcher was told: ``trial`` (None: a repeat of a known location),
-    the ``cell`` and its ``location`` [m], the ``score`` (``inf``: infeasible), the answer as
-    given and when [ISO 8601, UTC]."""
+class Trial:
+    """One handover of the session: its number, the ``cell`` and its ``location`` [m], the
+    ``score`` (``inf``: infeasible), the answer as given and when [ISO 8601, UTC]."""
 
-    trial: int | None
+    trial: int
     cell: int
     location: tuple[float, float, float]
     score: float
@@ -78,9 +79,9 @@ class Record:
                 "answer": self.answer, "answered_at": self.answered_at}
 
     @classmethod
-    def from_json(cls, data: dict) -> Record:
+    def from_json(cls, data: dict) -> Trial:
         score = math.inf if data["score"] is None else float(data["score"])
-        return cls(None if data["trial"] is None else int(data["trial"]), int(data["cell"]),
+        return cls(int(data["trial"]), int(data["cell"]),
                    (float(data["x"]), float(data["y"]), float(data["z"])), score,
                    str(data["answer"]), str(data["answered_at"]))
 
@@ -110,7 +111,7 @@ class Session:
         settings: what fixes the proposals and the meaning of a score (JSON values).
     """
 
-    def __init__(self, path: Path, settings: dict, history: list[Record] | None = None,
+    def __init__(self, path: Path, settings: dict, history: list[Trial] | None = None,
                  posture_header: tuple[str, ...] | None = None):
         self.path, self.settings = Path(path), as_json(settings)
         self.history = list(history or [])
@@ -134,7 +135,8 @@ class Session:
             raise StateError(f"state version {version!r}; this version of ergohandover reads "
                              f"version {VERSION}")
         try:
-            history = [Record.from_json(item) for item in data["history"]]
+            history = [Trial.from_json(item) for item in data["history"]
+                       if item["trial"] is not None]  # an earlier version's repeats
             saved, header = data["settings"], data.get("posture_header")
         except (KeyError, TypeError, ValueError) as exc:
             raise unreadable(exc) from None
@@ -144,20 +146,20 @@ class Session:
         return cls(path, settings, history, tuple(header) if header else None)
 
     @property
-    def trials(self) -> list[Record]:
-        """The answers of real handovers (repeats left out), in order."""
-        return [r for r in self.history if r.trial is not None]
+    def trials(self) -> list[Trial]:
+        """The handovers, in order."""
+        return self.history
 
-    def best(self) -> Record | None:
+    def best(self) -> Trial | None:
         """The trial of the lowest feasible score (the earliest of equals), or None."""
         feasible = [r for r in self.trials if math.isfinite(r.score)]
         return min(feasible, key=lambda r: r.score) if feasible else None
 
-    def resume(self, searcher: Searcher) -> Searcher:
+    def resume(self, searcher: AskTellSearcher) -> AskTellSearcher:
         """``searcher`` told this session's history, as it was told the first time."""
         return replay(searcher, [(r.cell, r.score) for r in self.history])
 
-    def add(self, record: Record) -> None:
+    def add(self, record: Trial) -> None:
         """Record an answer and save the state (atomically: the file is whole, old or new)."""
         self.history.append(record)
         self.save()
@@ -189,7 +191,32 @@ def now() -> str:
     return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
 
 
-def run(session: Session, searcher: Searcher, oracle: Oracle, budget: int,
+class AnsweredScores(ScoreSource):
+    """The scores of a session: each new cell proposed to ``oracle``, its answer saved before
+    the searcher hears it (an interruption in between loses nothing)."""
+
+    def __init__(self, session: Session, oracle: Oracle, grid, objective: str, budget: int,
+                 say: Callable[[str], None]):
+        self.session, self.oracle, self.grid, self.objective = session, oracle, grid, objective
+        self.budget, self.say = budget, say
+
+    def score(self, flat: int) -> float:
+        location = tuple(round(float(v), 9) for v in self.grid.coordinates([flat])[0])
+        proposal = Proposal(len(self.session.trials) + 1, self.budget, flat, location)
+        self.say(proposal.describe())
+        answer = self.oracle.answer(proposal)
+        self.session.posture_header = self.oracle.header
+        self.session.add(Trial(proposal.trial, flat, location, answer.score, answer.text,
+                               now()))
+        return answer.score
+
+
+ENDINGS = {"evaluation_cap": "budget", "stop_score": "target", "grid": "grid",
+           "ask_cap": "searcher"}
+"""Why a session ends, in the command's words, from :attr:`~.record.Record.stopped_by`."""
+
+
+def run(session: Session, searcher: AskTellSearcher, oracle: Oracle, budget: int,
         target: float | None = None, say: Callable[[str], None] = print) -> str:
     """Propose, ask ``oracle``, record and save, until the session ends; why it ended.
 
@@ -206,31 +233,8 @@ def run(session: Session, searcher: Searcher, oracle: Oracle, budget: int,
         ``budget``, ``target`` (reached), ``grid`` (every location tried) or ``searcher`` (it
         kept proposing known locations).
     """
-    grid = searcher.grid
-    known = {r.cell: r.score for r in session.history}
-    while True:
-        trials = session.trials
-        if target is not None and any(r.score <= target for r in trials):
-            return "target"
-        if len(trials) >= budget:
-            return "budget"
-        if len(known) >= grid.size:
-            return "grid"
-        if len(session.history) >= ASKS_PER_TRIAL * budget:
-            return "searcher"
-        cell = int(searcher.ask())
-        location = tuple(round(float(v), 9) for v in grid.coordinates([cell])[0])  # no 1e-17s
-        if cell in known:  # no new handover: the known answer again
-            first = next(r.trial for r in trials if r.cell == cell)
-            session.add(Record(None, cell, location, known[cell], f"repeat of trial {first}",
-                               now()))
-            searcher.tell(cell, known[cell])
-            continue
-        proposal = Proposal(len(trials) + 1, budget, cell, location)
-        say(proposal.describe())
-        answer = oracle.answer(proposal)
-        session.posture_header = oracle.header
-        known[cell] = answer.score
-        # Saved before the searcher hears it: an interruption in between loses nothing.
-        session.add(Record(proposal.trial, cell, location, answer.score, answer.text, now()))
-        searcher.tell(cell, answer.score)
+    scores = AnsweredScores(session, oracle, searcher.grid, session.settings.get("objective"),
+                            budget, say)
+    record = run_search(searcher, scores, Budget(evaluations=budget, stop_score=target),
+                        known=[(r.cell, r.score) for r in session.history])
+    return ENDINGS[record.stopped_by]

@@ -35,9 +35,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..landscape.grid import Grid
-from .ask_tell import finite_or_inf
 from .cells import NewCellSearcher, prior_point
 from .prior import Prior
+from .protocol import finite_or_inf
 
 AXES = ("x", "y", "z")
 CONSTRAINT = "infeasible"
@@ -69,7 +69,7 @@ class OptunaSearcher(NewCellSearcher):
     def add_known(self, history: Sequence[tuple[int, float]]) -> None:
         """Answers obtained elsewhere (another session, a benchmark's history), added as
         completed trials without being proposed: the sampler learns from them, and
-        :func:`~.ask_tell.replay` does not rebuild them. Infeasible answers need a feasible
+        :func:`~.protocol.replay` does not rebuild them. Infeasible answers need a feasible
         one (here or told before) for their objective value; until then they are only
         remembered (never proposed)."""
         import optuna
@@ -149,8 +149,8 @@ class GPSearcher(OptunaSearcher):
         # Optuna runs its GP inside ``with torch.device("cpu")``, a torch function mode that
         # sends every torch call through Python: on a CPU-only torch it changes nothing but
         # the time. With torch-function dispatch off the same operations run on the same
-        # device, so the proposals are the same (tests/test_searchers.py) in about half the
-        # time (the study's runs: 584 s on one core, against 1,078 s with the mode).
+        # device, so the proposals are the same (tests/test_searchers.py) in less time
+        # (experiments/bench_searchers.py measures it).
         import torch
         from threadpoolctl import threadpool_limits
 

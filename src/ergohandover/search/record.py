@@ -1,5 +1,6 @@
-"""What every agent shares: the budget, the best-so-far record with its time-stamped trace, and
-the result files (trace CSV, best-location CSV, optional Q-table, manifest.json)."""
+"""What every search shares: the budget, the best-so-far tracker, the :class:`Record` of what a
+search saw, and its files (trace CSV, best-location CSV, optional Q-table or network,
+manifest.json)."""
 
 from __future__ import annotations
 
@@ -24,36 +25,56 @@ BLOCK = 4096
 ~10-20 ms of the tabular learner, so a time cap is kept to within a few hundredths of a second."""
 
 Progress = Callable[[int, float], None]
-"""Called as ``progress(steps_done, elapsed_s)`` every :data:`BLOCK` steps."""
+"""Called as ``progress(spent, elapsed_s)``: every :data:`BLOCK` steps, every evaluation."""
+
+
+UNITS = ("steps", "evaluations")
+"""What a search's budget counts. ``steps``: every score an agent reads (an env step, or a draw
+of random sampling), repeats included: the learners' unit. ``evaluations``: distinct cells
+scored, a repeat answered from memory for nothing (:class:`~.protocol.Evaluations`): the unit
+of a real handover."""
 
 
 @dataclass(frozen=True)
 class Budget:
-    """When a run stops: a wall-clock cap, a step cap (either or both), or a score reached.
+    """When a search stops: at a wall-clock cap, a cap of steps or of evaluations (one unit of
+    :data:`UNITS`, or none), or at a score reached, whichever comes first.
 
     Args:
-        time_cap_s: wall-clock cap [s].
-        steps: step cap [env steps; score evaluations for random search].
+        seconds: wall-clock cap [s].
+        steps: cap of env steps (or score draws).
+        evaluations: cap of distinct cells scored.
         stop_score: stop as soon as a score at or below this is seen (benchmarks of
             time-to-minimum); None runs to the cap, as the paper does.
         stop_cells: (grid.size,) bool: stop only at one of these cells (at or below
             ``stop_score``, if given): a target that is a subset of the cells at the minimum.
     """
 
-    time_cap_s: float | None = None
+    seconds: float | None = None
     steps: int | None = None
+    evaluations: int | None = None
     stop_score: float | None = None
     stop_cells: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
-        if self.time_cap_s is None and self.steps is None:
-            raise ConfigError("a budget needs a time cap or a step cap")
-        if self.time_cap_s is not None and not (math.isfinite(self.time_cap_s)
-                                                and self.time_cap_s > 0):
-            raise ConfigError(f"time_cap_s = {self.time_cap_s!r} is outside the valid range "
-                             "(> 0 s)")
-        if self.steps is not None and self.steps < 1:
-            raise ConfigError(f"steps = {self.steps!r} is outside the valid range (at least 1)")
+        if self.seconds is None and self.steps is None and self.evaluations is None:
+            raise ConfigError("a budget needs a time cap, a step cap or an evaluation cap")
+        if self.steps is not None and self.evaluations is not None:
+            raise ConfigError("a budget counts steps or evaluations, not both")
+        if self.seconds is not None and not (math.isfinite(self.seconds) and self.seconds > 0):
+            raise ConfigError(f"seconds = {self.seconds!r} is outside the valid range (> 0 s)")
+        for name in UNITS:
+            value = getattr(self, name)
+            if value is not None and value < 1:
+                raise ConfigError(f"{name} = {value!r} is outside the valid range (at least 1)")
+
+    @classmethod
+    def of(cls, unit: str, count: int | None, seconds: float | None = None,
+           **stop) -> Budget:
+        """A budget of ``count`` in ``unit`` (one of :data:`UNITS`) and/or ``seconds``."""
+        if unit not in UNITS:
+            raise ConfigError(f"unit = {unit!r} is not allowed (use {' or '.join(UNITS)})")
+        return cls(seconds, **{unit: count}, **stop)
 
     @property
     def step_limit(self) -> int | float:
@@ -61,14 +82,15 @@ class Budget:
 
     @property
     def time_limit(self) -> float:
-        return math.inf if self.time_cap_s is None else self.time_cap_s
+        return math.inf if self.seconds is None else self.seconds
 
 
-class BestSoFar:
+class Tracker:
     """The lowest score seen, every distinct cell where it was seen, and a time-stamped trace.
 
-    Agents call :meth:`offer` only when ``score <= best`` (the comparison stays in their loop);
-    a strictly lower score starts a new set of cells and adds a trace row.
+    Callers offer a score only when ``score <= best`` (the comparison stays in the agents'
+    loops, where it is cheap); a strictly lower score starts a new set of cells and adds a trace
+    row.
 
     Args:
         location: flat cell -> (x, y, z) [m].
@@ -89,6 +111,11 @@ class BestSoFar:
         self.rows: list[tuple] = []
         self.start = time.perf_counter()
         self.stopped: float | None = None
+
+    @classmethod
+    def of(cls, location, budget: Budget) -> Tracker:
+        """A tracker that stops where ``budget`` says."""
+        return cls(location, budget.stop_score, budget.stop_cells)
 
     def offer(self, step: int, score: float, cell: int) -> bool:
         """Record ``score`` seen at ``cell`` at ``step``; True when it reaches the stop score
@@ -121,32 +148,68 @@ class BestSoFar:
         """Freeze the clock: the search is over (what follows is bookkeeping)."""
         self.stopped = self.elapsed()
 
+    def finish(self, searcher: str, steps: int, budget: Budget, info: dict | None = None,
+               **policy) -> Record:
+        """Close a run counted in steps: why it stopped, from the tracker and ``budget``."""
+        if self.reached:
+            stopped_by = "stop_score"
+        else:
+            stopped_by = "step_cap" if steps >= budget.step_limit else "time_cap"
+        return self.record(searcher, steps, stopped_by, "steps", info, **policy)
+
+    def record(self, searcher: str, spent: int, stopped_by: str, unit: str = "steps",
+               info: dict | None = None, **seen) -> Record:
+        """Close the run: the final trace row, what was spent and why it stopped; ``seen``:
+        the cells and scores evaluated, or what a learner leaves to roll out (``q_table``,
+        ``model``)."""
+        self.stop()
+        elapsed = self.elapsed()
+        last = self.rows[-1][2:] if self.rows else (math.inf, math.nan, math.nan, math.nan)
+        rows = [*self.rows, (elapsed, spent, *last)]
+        # Grid coordinates are lower + i * step: round away the float noise (to 1 µm, 1 µs).
+        trace = pd.DataFrame(rows, columns=TRACE_COLUMNS).round(6)
+        return Record(searcher, self.best, self.cells, trace, spent, elapsed, stopped_by, unit,
+                      info=info or {}, **seen)
+
 
 @dataclass
-class RunResult:
-    """What an agent's run found.
+class Record:
+    """What one search saw: the one result of every searcher and agent, whoever ran it (the
+    study, ``train``, ``personalise``).
 
     Attributes:
-        agent: the agent's name.
+        searcher: the registry's name.
         best_score: lowest score seen (``inf`` if only infeasible cells were seen).
-        best_cells: flat cell -> step first seen, for every cell at ``best_score``.
-        trace: one row per improvement and a last row at the end (:data:`TRACE_COLUMNS`).
-        steps: steps taken.
+        best_cells: flat cell -> step first seen, for every cell at ``best_score``, in the
+            order found.
+        trace: one row per improvement and a last row at the end (:data:`TRACE_COLUMNS`; its
+            ``step`` counts ``unit``).
+        steps: what was spent, in ``unit``.
         elapsed_s: wall time [s].
-        stopped_by: ``time_cap``, ``step_cap`` or ``stop_score``.
-        info: agent-specific figures (episodes, final temperature, ...).
+        stopped_by: ``time_cap``, ``step_cap``, ``evaluation_cap``, ``stop_score``, ``grid``
+            (every cell evaluated) or ``ask_cap`` (the searcher kept proposing known cells).
+        unit: ``steps`` or ``evaluations``.
+        cells: the distinct cells evaluated, in order, when the budget counted evaluations (a
+            run counted in steps, millions of them, keeps only :attr:`best_cells`).
+        scores: their scores (``inf``: infeasible).
+        info: the searcher's own figures (episodes, final temperature, asks, ...).
+        settings: the searcher's own configuration (hyperparameters), if it has one.
         q_table: (visited states (n,), Q-values (n, 6)) for the tabular learner.
-        model: the trained network (an SB3 model) for DQN.
+        model: the trained network (an SB3 model) for DQN and SAC.
     """
 
-    agent: str
+    searcher: str
     best_score: float
     best_cells: dict[int, int]
     trace: pd.DataFrame
     steps: int
     elapsed_s: float
     stopped_by: str
+    unit: str = "steps"
+    cells: list[int] = field(default_factory=list)
+    scores: list[float] = field(default_factory=list)
     info: dict = field(default_factory=dict)
+    settings: dict | None = None
     q_table: tuple[np.ndarray, np.ndarray] | None = None
     model: Any = None
 
@@ -156,25 +219,22 @@ class RunResult:
         row = self.trace.iloc[-2] if len(self.trace) > 1 else self.trace.iloc[-1]
         return float(row["time_s"]), int(row["step"])
 
+    @property
+    def best(self) -> tuple[int, float] | None:
+        """The first cell found at the lowest score, and that score (None: nothing feasible)."""
+        if not self.best_cells:
+            return None
+        return next(iter(self.best_cells)), self.best_score
 
-def finish(agent: str, best: BestSoFar, steps: int, budget: Budget, info: dict | None = None,
-           q_table=None, model=None) -> RunResult:
-    """Close a run: the final trace row and why it stopped."""
-    best.stop()
-    elapsed = best.elapsed()
-    if best.reached:
-        stopped_by = "stop_score"
-    else:
-        stopped_by = "step_cap" if steps >= budget.step_limit else "time_cap"
-    last = best.rows[-1][2:] if best.rows else (math.inf, math.nan, math.nan, math.nan)
-    rows = [*best.rows, (elapsed, steps, *last)]
-    # Grid coordinates are lower + i * step: round away the float noise (to 1 µm, 1 µs).
-    trace = pd.DataFrame(rows, columns=TRACE_COLUMNS).round(6)
-    return RunResult(agent, best.best, best.cells, trace, steps, elapsed, stopped_by,
-                     info or {}, q_table, model)
+    def reached_at(self, threshold: float) -> int | None:
+        """The step (in :attr:`unit`) of the first score at or below ``threshold``; None if
+        none was. A first such score is always a new best, so the trace holds it."""
+        steps = self.trace["step"].to_numpy()[:-1]
+        hits = np.flatnonzero(self.trace["best_score"].to_numpy()[:-1] <= threshold)
+        return int(steps[hits[0]]) if hits.size else None
 
 
-def best_locations(result: RunResult, location) -> pd.DataFrame:
+def best_locations(result: Record, location) -> pd.DataFrame:
     """The cells at the best score, the most symmetric first, then by |x|, y, z.
 
     Args:
@@ -195,7 +255,7 @@ def best_locations(result: RunResult, location) -> pd.DataFrame:
         "first_step": [result.best_cells[cells[i]] for i in order]})
 
 
-def write_result(result: RunResult, location, output: Path, config: dict, seeds: dict,
+def write_record(result: Record, location, output: Path, config: dict, seeds: dict,
                  extra: dict | None = None) -> list[Path]:
     """Write ``trace.csv``, ``best_locations.csv``, ``q_table.npz`` or the network
     (``dqn_model.zip``, ``sac_model.zip``; if any) and ``manifest.json`` into ``output``
@@ -218,11 +278,11 @@ def write_result(result: RunResult, location, output: Path, config: dict, seeds:
             output / "q_table.npz",
             lambda h: np.savez_compressed(h, states=states, q=values), binary=True))
     if result.model is not None:
-        paths.append(atomic_write(output / f"{result.agent}_model.zip", result.model.save,
+        paths.append(atomic_write(output / f"{result.searcher}_model.zip", result.model.save,
                                   binary=True))
     time_s, step = result.first_reached
     best = None if math.isinf(result.best_score) else result.best_score  # JSON has no inf
-    summary = {"agent": result.agent, "best_score": best,
+    summary = {"agent": result.searcher, "best_score": best,
                "n_best_locations": len(result.best_cells), "first_reached_s": round(time_s, 4),
                "first_reached_step": step, "steps": result.steps,
                "stopped_by": result.stopped_by, **result.info, **(extra or {})}

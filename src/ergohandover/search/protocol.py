@@ -1,0 +1,214 @@
+"""The one protocol of a search for a handover location: a :class:`Searcher` is run against a
+score source within a :class:`~.record.Budget` by :func:`run`, and leaves a
+:class:`~.record.Record`.
+
+Two kinds of searcher meet here (the registry, :mod:`.registry`, names them all):
+
+- *ask/tell* searchers (:class:`AskTellSearcher`): they propose a cell, are told its score,
+  and propose the next. Where every evaluation is a real handover with a person, a search
+  must be driven from outside like this. A searcher is deterministic given its seed and the
+  answers it was told, so its state is its history: :func:`replay` rebuilds it, which is how
+  ``ergohandover personalise`` resumes.
+- agents of the environment (the learners and walks, :mod:`.env_agent`), which move through
+  the grid in their own loop: they count env *steps* (the learning study's unit), or, run
+  against :class:`Evaluations`, distinct cells like any searcher.
+
+The rule of a real handover lives in :class:`Evaluations`: a cell already scored is answered
+from memory and costs nothing, and a searcher may read at most :data:`ASKS_PER_EVALUATION`
+scores per evaluation of its budget, so one that keeps to known cells ends instead of looping.
+A score is the objective at the cell (lower is better); ``math.inf`` says the worker could not
+take the box there.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Iterable, Sequence
+from contextlib import suppress
+
+from ..envs.scores import ScoreSource
+from ..errors import ConfigError
+from ..landscape.grid import Grid
+from .prior import Prior
+from .record import Budget, Progress, Record, Tracker
+
+ASKS_PER_EVALUATION = 50
+"""Scores a search may read per evaluation of its budget, repeats included: far above what any
+searcher needs (an ask/tell searcher proposes new cells; a walk's step reaches a new cell about
+half the time or more), so it ends only a search that keeps to known cells."""
+
+
+class Spent(Exception):
+    """The budget is spent: raised through a searcher's loop by :class:`Evaluations` and
+    caught by :func:`run` (never leaves it)."""
+
+
+def finite_or_inf(score: float) -> float:
+    """A score as a searcher takes it: NaN and infinities become ``inf`` (infeasible)."""
+    return score if math.isfinite(score) else math.inf
+
+
+class Evaluations:
+    """The scores a search pays for: each distinct cell once, a repeat from memory for free.
+
+    Args:
+        scores: where a new cell's score comes from (the landscape, the twin, a person).
+        budget: evaluations and/or seconds, optional stop score or cells (not steps).
+        known: (cell, score) pairs evaluated before this run (a resumed session's): answered
+            from memory, and counted against the budget.
+        progress: called after every new evaluation.
+    """
+
+    def __init__(self, scores: ScoreSource, budget: Budget,
+                 known: Iterable[tuple[int, float]] = (), progress: Progress | None = None):
+        if budget.steps is not None:
+            raise ConfigError("evaluations are counted in evaluations, not steps")
+        self.source, self.grid, self.budget = scores, scores.grid, budget
+        self.limit = min(budget.evaluations or scores.grid.size, scores.grid.size)
+        self.tracker = Tracker(self._location, budget.stop_score, budget.stop_cells)
+        self.known: dict[int, float] = {}
+        self.asks, self.progress = 0, progress
+        for cell, score in known:
+            self._add(int(cell), finite_or_inf(float(score)))
+        self.asks = len(self.known)
+
+    def _location(self, cell: int) -> tuple[float, float, float]:
+        return tuple(float(v) for v in self.grid.coordinates([cell])[0])
+
+    @property
+    def spent(self) -> int:
+        """Distinct cells evaluated, earlier ones (``known``) included."""
+        return len(self.known)
+
+    @property
+    def stopped_by(self) -> str | None:
+        """Why no more may be evaluated (:attr:`Record.stopped_by`'s words), or None."""
+        if self.tracker.reached:
+            return "stop_score"
+        if self.spent >= self.limit:
+            return "grid" if self.spent >= self.grid.size else "evaluation_cap"
+        if self.asks >= ASKS_PER_EVALUATION * self.limit:
+            return "ask_cap"
+        if self.tracker.elapsed() >= self.budget.time_limit:
+            return "time_cap"
+        return None
+
+    def score(self, cell: int) -> float:
+        """The score at ``cell``: from memory if it was evaluated, else from the source (one
+        evaluation); :class:`Spent` once the budget is."""
+        if self.stopped_by:
+            raise Spent
+        self.asks += 1
+        cell = int(cell)
+        known = self.known.get(cell)
+        if known is not None:
+            return known
+        value = finite_or_inf(float(self.source.score(cell)))
+        self._add(cell, value)
+        if self.progress:
+            self.progress(self.spent, self.tracker.elapsed())
+        return value
+
+    def _add(self, cell: int, value: float) -> None:
+        self.known[cell] = value
+        if value <= self.tracker.best:
+            self.tracker.offer(self.spent, value, cell)
+
+    def record(self, searcher: str, info: dict | None = None) -> Record:
+        return self.tracker.record(searcher, self.spent, self.stopped_by or "evaluation_cap",
+                                   "evaluations", {"asks": self.asks, **(info or {})},
+                                   cells=list(self.known), scores=list(self.known.values()))
+
+
+class Searcher(ABC):
+    """Searches the cells of ``grid`` for the lowest score.
+
+    Args:
+        grid: the cells it may evaluate.
+        seed: its only source of randomness.
+        prior: where the worker's optimum is expected (a population prior), for searchers
+            that take one; None: no prior.
+    """
+
+    name: str = ""
+    unit: str = "evaluations"
+    """What its budget counts when it is given a number without a unit (``train --steps``)."""
+
+    def __init__(self, grid: Grid, seed: int, prior: Prior | None = None):
+        self.grid, self.seed, self.prior = grid, int(seed), prior
+
+    @abstractmethod
+    def search(self, evaluations: Evaluations) -> dict:
+        """Evaluate cells through ``evaluations`` until it raises :class:`Spent`; returns the
+        searcher's own figures (for :attr:`Record.info`)."""
+
+    def drive(self, scores: ScoreSource, budget: Budget, progress: Progress | None) -> Record:
+        """A run counted in env steps (only agents of the environment have one)."""
+        raise ConfigError(f"searcher {self.name!r} counts evaluations, not steps")
+
+
+class AskTellSearcher(Searcher):
+    """Proposes cells one at a time (:meth:`ask`) and learns from their scores (:meth:`tell`)."""
+
+    @abstractmethod
+    def ask(self) -> int:
+        """The next flat cell to evaluate."""
+
+    @abstractmethod
+    def tell(self, cell: int, score: float) -> None:
+        """The score observed at ``cell`` (``math.inf``: infeasible)."""
+
+    def search(self, evaluations: Evaluations) -> dict:
+        while not evaluations.stopped_by:
+            cell = int(self.ask())
+            self.tell(cell, evaluations.score(cell))
+        return {}
+
+
+def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
+        progress: Progress | None = None,
+        known: Sequence[tuple[int, float]] = ()) -> Record:
+    """Run ``searcher`` against ``scores`` until ``budget`` is spent or its stop is reached.
+
+    Args:
+        searcher: from the registry (:func:`~.registry.make`).
+        scores: the score at a cell: a landscape, the twin, a person (every source answers
+            ``score(cell)``).
+        budget: in evaluations (every searcher) or steps (agents of the environment only), and
+            /or seconds.
+        progress: called as ``progress(spent, elapsed_s)`` while it runs.
+        known: (cell, score) of an earlier session, already told to ``searcher``
+            (:func:`replay`): answered from memory and counted in the budget.
+    """
+    if budget.steps is not None or (budget.evaluations is None and searcher.unit == "steps"):
+        return searcher.drive(scores, budget, progress)
+    evaluations = Evaluations(scores, budget, known, progress)
+    info = {}
+    with suppress(Spent):
+        info = searcher.search(evaluations)
+    return evaluations.record(searcher.name, info)
+
+
+def replay(searcher: AskTellSearcher, history: Sequence[tuple[int, float]]) -> AskTellSearcher:
+    """Tell ``searcher`` an earlier session's answers in order, asking before each as that
+    session did; a proposal that differs from the recorded one means the history is not this
+    searcher's (another seed, searcher or grid) and is refused.
+
+    A proposal of a cell already answered that is not the next entry of ``history`` is
+    answered from memory, as :class:`Evaluations` did in that session.
+    """
+    known: dict[int, float] = {}
+    for number, (cell, score) in enumerate(history, start=1):
+        cell, score = int(cell), float(score)
+        proposed = searcher.ask()
+        while proposed != cell and proposed in known:
+            searcher.tell(proposed, known[proposed])
+            proposed = searcher.ask()
+        if proposed != cell:
+            raise ConfigError(f"history trial {number}: cell {cell} was not proposed by "
+                              f"searcher {searcher.name!r} with seed {searcher.seed} (it "
+                              f"proposes {proposed}): the state file is not this session's")
+        known[cell] = score
+        searcher.tell(cell, score)
+    return searcher

@@ -1,0 +1,153 @@
+"""The one registry of searchers: every name ``train``, ``personalise``, the study and the
+benchmarks accept, what it is called in figures, what kind it is and how it is made.
+
+Adding a searcher is one file and one line here: a module with an
+:class:`~.protocol.AskTellSearcher` (or a runner of the environment, :mod:`.env_agent`) and an
+:class:`Entry` naming it (docs/architecture.md, "Adding a searcher"). Nothing is imported until
+a searcher is made, so naming the registry loads neither Optuna nor torch.
+
+Kinds: ``learner`` (learns a policy that :mod:`.rollouts` can follow), ``walk`` (moves through
+the environment without learning), ``searcher`` (ask/tell). Learners and walks count env steps
+unless given evaluations; ask/tell searchers count evaluations.
+
+Priors: ``none`` (a worker's prior is not used), ``optional`` (a warm start when one is given:
+the personalise command gives the shipped population prior unless ``--no-prior``), ``needs``
+(the population prior alone, and the ``+prior`` entries: the same searcher always warm-started,
+so the study can run both).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import ConfigError
+from ..landscape.grid import Grid
+from .env_agent import EnvAgent, attribute
+from .prior import Prior
+from .protocol import Searcher
+
+KINDS = ("learner", "walk", "searcher")
+PRIORS = ("none", "optional", "needs")
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One searcher of the registry.
+
+    Attributes:
+        name: its name on the command line and in every table.
+        label: its name in figures and the report.
+        kind: one of :data:`KINDS`.
+        make: ``module:Class`` of an ask/tell searcher, or ``module:function`` of an agent's
+            run (:mod:`.env_agent`); ``.module``: a module of this package.
+        prior: one of :data:`PRIORS`.
+        config: an agent's settings class, ``module:Class`` (None: none).
+        options: settings of this entry beyond its class's defaults.
+        observation: what the env shows an agent (``indices``, ``position``, ``continuous``).
+        policy: what a learner's run leaves to roll out greedily: ``table``, ``network``,
+            ``actor`` (SAC: no rollout over the discrete moves) or ``random`` (the random walk's
+            uniform moves); None for the others.
+        variant_of: the entry this one is a variant of (``bo`` for ``bo+prior``), or None.
+    """
+
+    name: str
+    label: str
+    kind: str
+    make: str
+    prior: str = "none"
+    config: str | None = None
+    options: dict = field(default_factory=dict)
+    observation: str = "indices"
+    policy: str | None = None
+    variant_of: str | None = None
+
+    def __post_init__(self):
+        if self.kind not in KINDS or self.prior not in PRIORS:
+            raise ConfigError(f"registry entry {self.name!r}: kind {self.kind!r} (use "
+                              f"{', '.join(KINDS)}), prior {self.prior!r} (use "
+                              f"{', '.join(PRIORS)})")
+
+    @property
+    def unit(self) -> str:
+        """What a bare number of its budget counts (``train --steps``)."""
+        return "evaluations" if self.kind == "searcher" else "steps"
+
+    @property
+    def learns(self) -> bool:
+        return self.kind == "learner"
+
+
+def _warm(name: str, label: str, make: str) -> tuple[Entry, Entry]:
+    """An ask/tell searcher and its entry always warm-started by the worker's prior."""
+    return (Entry(name, label, "searcher", make, prior="optional"),
+            Entry(f"{name}+prior", f"{label} + prior", "searcher", make, prior="needs",
+                  variant_of=name))
+
+
+SEARCHERS: dict[str, Entry] = {e.name: e for e in (
+    Entry("qlearning", "Q-learning (τ 0.7)", "learner", ".qlearning:run_qlearning",
+          config=".qlearning:QLearningConfig", options={"temperature": "fixed"}, policy="table"),
+    Entry("qlearning-adaptive", "Q-learning (adaptive τ)", "learner", ".qlearning:run_qlearning",
+          config=".qlearning:QLearningConfig", options={"temperature": "adaptive"},
+          policy="table"),
+    Entry("dqn", "DQN", "learner", ".dqn:run_dqn", config=".dqn:DQNConfig",
+          observation="position", policy="network"),
+    Entry("sac", "SAC", "learner", ".sac:run_sac", config=".sac:SACConfig",
+          observation="continuous", policy="actor"),
+    Entry("randomwalk", "random walk", "walk", ".walks:run_randomwalk",
+          config=".walks:WalkConfig", policy="random"),
+    Entry("random-draws", "random draws", "walk", ".walks:run_random_draws"),
+    Entry("hillclimb", "hill-climbing", "walk", ".walks:run_hillclimb"),
+    Entry("random-order", "random order", "searcher", ".random_order:RandomOrderSearcher"),
+    Entry("prior", "population prior", "searcher", ".prior_search:PriorSearcher", prior="needs"),
+    *_warm("bo", "Bayesian optimisation (GP)", ".optuna_searchers:GPSearcher"),
+    *_warm("tpe", "TPE", ".optuna_searchers:TPESearcher"),
+    *_warm("cmaes", "CMA-ES", ".cmaes_search:CMAESSearcher"),
+    *_warm("pso", "particle swarm", ".pso:PSOSearcher"),
+)}
+"""Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
+adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk
+with the learner's moves and restarts, random draws (uniform, with replacement: one score read
+a step), hill-climbing with random restarts, and the ask/tell searchers: random order (uniform
+without replacement), the population prior alone, Bayesian optimisation (Optuna's GP sampler),
+TPE, CMA-ES and particle-swarm optimisation, each also warm-started (``+prior``)."""
+LEARNERS = tuple(name for name, e in SEARCHERS.items() if e.learns)
+
+
+def entry(name: str) -> Entry:
+    """The registry's entry of ``name``; a one-line ConfigError for any other name."""
+    if name not in SEARCHERS:
+        raise ConfigError(f"searcher = {name!r} is not allowed (use {', '.join(SEARCHERS)})")
+    return SEARCHERS[name]
+
+
+def names(kind: str | None = None, variants: bool = True) -> tuple[str, ...]:
+    """Every name of the registry, or those of one kind; ``variants`` False leaves out the
+    variants of another entry."""
+    return tuple(n for n, e in SEARCHERS.items() if (kind is None or e.kind == kind)
+                 and (variants or e.variant_of is None))
+
+
+def make(name: str, grid: Grid, seed: int, prior: Prior | None = None, **env) -> Searcher:
+    """The searcher ``name`` over ``grid``.
+
+    Args:
+        name: an entry of :data:`SEARCHERS`.
+        grid: the cells it may evaluate.
+        seed: its seed.
+        prior: the worker's prior: given to the entries that take one, left out of the others;
+            an entry that needs one is refused (one line) without it.
+        env: an agent's env settings (``episode_end``, ``target``, ``episode_steps``); an
+            ask/tell searcher has no env and ignores them.
+    """
+    spec = entry(name)
+    if spec.prior == "needs" and prior is None:
+        raise ConfigError(f"searcher {name} needs a worker's prior (a population prior's "
+                          "location and SD; use another searcher without one)")
+    given = None if spec.prior == "none" else prior
+    if spec.kind == "searcher":
+        searcher = attribute(spec.make)(grid, seed, given)
+        searcher.name = name
+        return searcher
+    return EnvAgent(grid, seed, given, name=name, runner=spec.make, config=spec.config,
+                    observation=spec.observation, options=spec.options, **env)
