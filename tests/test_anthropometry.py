@@ -125,7 +125,7 @@ def test_landmark_heights_follow_the_chain_and_are_ordered():
     assert 0.81 < seg.shoulder_height / spec.stature_m < 0.83
 
 
-def test_the_earlier_twins_fixed_ratios_remain_an_option():
+def test_the_fixed_ratio_twins_fixed_ratios_remain_an_option():
     spec = BodySpec(proportions="drillis-contini")
     seg = spec.segments()
     # Drillis & Contini put the hip at 0.530 and the shoulder at 0.818 of stature, the elbow

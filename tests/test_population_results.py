@@ -47,8 +47,8 @@ def test_sex_and_proportions_are_analysed_beside_stature():
     # one-size choices cost no one anything: the standard error is 0).
     assert fits["p"].dropna().between(0, 1).all()
     assert (fits.loc[fits["p"].isna(), "se"] == 0).all()
-    twins = read("earlier_twin.csv").set_index(["proportions", "objective"])
-    # The earlier twin's elbow is its joint at 0.632 of stature; the body model's standing
+    twins = read("fixed_ratio_twin.csv").set_index(["proportions", "objective"])
+    # The fixed-ratio twin's elbow is its joint at 0.632 of stature; the body model's standing
     # elbow height is lower (0.613 of stature on average in the survey).
     old = twins.loc[("drillis-contini", "paper_postural")]
     new = twins.loc[("ansur2", "paper_postural")]

@@ -122,7 +122,7 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     one_size = pd.read_csv(RESULTS / "population" / "one_size.csv")
     groups = pd.read_csv(RESULTS / "population" / "groups.csv")
     proportions = pd.read_csv(RESULTS / "population" / "proportions.csv")
-    twins = pd.read_csv(RESULTS / "population" / "earlier_twin.csv")
+    twins = pd.read_csv(RESULTS / "population" / "fixed_ratio_twin.csv")
     rows = {}
 
     postural = stats.loc["paper_postural"]

@@ -122,7 +122,7 @@ def proportions_table(fits: pd.DataFrame, objective: str = "paper_postural") -> 
     return [*lines, "", f"Least squares over the {n} workers, all four terms together."]
 
 
-def earlier_twin_table(twins: pd.DataFrame) -> list[str]:
+def fixed_ratio_twin_table(twins: pd.DataFrame) -> list[str]:
     """The reference worker's optimum sized by the survey's model and by the fixed ratios."""
     lines = ["| score | optimum, body model (x, y, z) [m] | optimum, fixed ratios (x, y, z) [m] "
              "| height moved [cm] | reach moved [cm] |", "|---|---|---|---|---|"]
@@ -172,7 +172,7 @@ def blocks(results: Path) -> dict[str, str]:
     one_size, groups, fits, workers, heights, proportions, twins = (
         _read(folder, f"{n}.csv") for n in
         ("one_size", "groups", "height_fit", "workers", "working_heights", "proportions",
-         "earlier_twin"))
+         "fixed_ratio_twin"))
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"population-claim": claim(one_size, groups, workers),
             "population-one-size": table(one_size_table(one_size)),
@@ -180,7 +180,7 @@ def blocks(results: Path) -> dict[str, str]:
             "population-height": table(height_table(fits)),
             "population-working-heights": table(working_heights_table(heights)),
             "population-proportions": table(proportions_table(proportions)),
-            "population-earlier-twin": table(earlier_twin_table(twins))}
+            "population-fixed-ratio-twin": table(fixed_ratio_twin_table(twins))}
 
 
 def section(results: Path) -> list[str]:
@@ -197,7 +197,7 @@ def section(results: Path) -> list[str]:
             "Who pays beyond stature: penalty against sex and proportions (postural score):",
             made["population-proportions"],
             "The reference worker sized by the body model and by the earlier fixed ratios:",
-            made["population-earlier-twin"]]
+            made["population-fixed-ratio-twin"]]
 
 
 def main() -> None:

@@ -41,7 +41,7 @@ def add_measurement_arguments(group) -> None:
                        "a row of the survey's public files: the worker's own measurements")
     group.add_argument("--proportions", choices=("ansur2", "drillis-contini"),
                        default="ansur2", help="ansur2: landmarks from the survey's body model "
-                       "(default); drillis-contini: the earlier twin, every length a fixed "
+                       "(default); drillis-contini: the fixed-ratio twin, every length a fixed "
                        "fraction of stature")
 
 

@@ -132,20 +132,17 @@ def model_flags_given(args: argparse.Namespace) -> list[str]:
 def add_evaluator_arguments(parser: argparse.ArgumentParser, solver: bool = True) -> None:
     """The worker, the task, the trunk-angle reference and (``solver``) the posture solver:
     everything an :class:`~ergohandover.twin.evaluate.Evaluator` is built from."""
-    from ..twin.evaluate import SOLVER_ALIASES, SOLVERS, TRUNK_REFERENCES
+    from ..twin.evaluate import SOLVERS, TRUNK_REFERENCES
 
     add_body_arguments(parser)
     add_task_arguments(parser)
     group = parser.add_argument_group("model")
     if solver:
-        names = (*SOLVERS, *SOLVER_ALIASES)
-        group.add_argument("--solver", type=choice(names), default=defaults.SOLVER,
-                           metavar="|".join(names),
+        group.add_argument("--solver", type=choice(SOLVERS), default=defaults.SOLVER,
+                           metavar="|".join(SOLVERS),
                            help="whole-body: the twin's own solver (balance, gaze, palms; "
-                           "compiled); pybullet: PyBullet's IK on the hands only; "
-                           + "; ".join(f"{old} is the former name of {new}"
-                                       for old, new in SOLVER_ALIASES.items())
-                           + f" (default: {defaults.SOLVER})")
+                           "compiled); pybullet: PyBullet's IK on the hands only "
+                           f"(default: {defaults.SOLVER})")
     group.add_argument("--trunk-reference", type=choice(TRUNK_REFERENCES),
                        default=defaults.TRUNK_REFERENCE, metavar="|".join(TRUNK_REFERENCES),
                        help="trunk flexion and side bend from vertical (the worksheets') or "
@@ -154,14 +151,9 @@ def add_evaluator_arguments(parser: argparse.ArgumentParser, solver: bool = True
 
 def evaluator_from_args(args: argparse.Namespace):
     """The Evaluator the flags describe (see :func:`add_evaluator_arguments`)."""
-    import sys
-
-    from ..twin.evaluate import SOLVER_ALIASES, Evaluator
+    from ..twin.evaluate import Evaluator
 
     solver = getattr(args, "solver", defaults.SOLVER)
-    if solver in SOLVER_ALIASES:
-        print(f"note: --solver {solver} is the former name of --solver "
-              f"{SOLVER_ALIASES[solver]}", file=sys.stderr)
     return model(Evaluator, body_from_args(args), task_from_args(args), solver,
                  trunk_reference=args.trunk_reference)
 

@@ -95,9 +95,9 @@ class ArrayScores(ScoreSource):
 class LandscapeScores(ScoreSource):
     """Scores read from an exhaustive landscape: one list look-up per call.
 
-    The landscape's int8 column is turned once (~0.3 s for 3.3 M cells) into a Python list of
-    shared float objects, because indexing a list is several times faster than indexing a
-    numpy array from Python and this sits on the learners' hot path.
+    The landscape's int8 column is turned once into a Python list of shared float objects, because
+    indexing a list is several times faster than indexing a numpy array from Python and this
+    sits on the learners' hot path.
     """
 
     def __init__(self, landscape: Landscape, objective: str = "paper_postural"):
@@ -116,17 +116,14 @@ class LandscapeScores(ScoreSource):
     def score(self, flat: int) -> float:
         return self._values[flat]
 
-    def minimum(self) -> float:
-        """The lowest feasible score of the landscape (the ground truth)."""
-        return min(self._values)
-
 
 class OnlineScores(ScoreSource):
     """Scores computed on demand with :func:`evaluate`, memoised per cell.
 
     A miss evaluates the whole aligned ``block``³ cube of cells containing the cell in one
-    ``evaluate()`` call: one location costs ~27 ms (mostly fixed overhead) and 64 cost ~40 ms,
-    and a learner that walks the grid uses its neighbours next. Because ``evaluate()`` is
+    ``evaluate()`` call: a call's cost is mostly fixed, so 64 locations cost little more than
+    one (experiments/bench_learning.py), and a learner that walks the grid uses its neighbours
+    next. Because ``evaluate()`` is
     order-independent, the numbers are those of one call per cell.
 
     Args:

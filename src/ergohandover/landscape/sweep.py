@@ -42,10 +42,10 @@ ANGLES = ("trunk_flexion", "trunk_side_bend", "trunk_twist", "neck_flexion",
           "left_elbow_flexion", "right_elbow_flexion", "hand_error_m")
 COLUMNS = ("flags", *SCORES, *ANGLES)
 CHUNK_POINTS = 524_288
-"""Most grid points per task: about 30 s of one core with today's solve, so a killed sweep loses
+"""Most grid points per task: a fraction of a minute of one core, so a killed sweep loses
 little; a whole 1 cm paper-code landscape (92,783 points) of one worker of a workforce is one
 task, because each process that evaluates a worker first solves that worker's warm-start
-lattice (~1.5 s); and a task of the fine warm start solves the lattice nodes of its thin slab of
+lattice; and a task of the fine warm start solves the lattice nodes of its thin slab of
 the grid, of which those on the slab's faces again in the next task (on the 3 mm paper grid,
 0.24 nodes per point in tasks of 100,000 points, 0.15 in tasks of 400,000)."""
 MIN_TASK_POINTS = 2_048

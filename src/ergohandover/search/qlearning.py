@@ -93,7 +93,7 @@ def seeds_of(seed: int) -> tuple[int, np.random.Generator]:
 
 _SPARE: dict[int, array] = {}
 """A zeroed Q-table per size, kept between runs in this process: allocating and zeroing the
-paper grid's 150 MB table took ~0.2 s, a quarter of a study run's work."""
+paper grid's 150 MB table would otherwise cost a short run more than its steps."""
 
 
 def zeroed_table(length: int) -> array:

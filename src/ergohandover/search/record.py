@@ -21,8 +21,8 @@ from ..landscape.stats import most_symmetric
 
 TRACE_COLUMNS = ("time_s", "step", "best_score", "best_x", "best_y", "best_z")
 BLOCK = 4096
-"""Steps between clock checks, progress updates and refills of pre-drawn random numbers:
-~10-20 ms of the tabular learner, so a time cap is kept to within a few hundredths of a second."""
+"""Steps between clock checks, progress updates and refills of pre-drawn random numbers: few
+enough that a time cap is kept closely, many enough that the checks cost the loop nothing."""
 
 Progress = Callable[[int, float], None]
 """Called as ``progress(spent, elapsed_s)``: every :data:`BLOCK` steps, every evaluation."""

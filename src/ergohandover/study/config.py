@@ -112,16 +112,16 @@ class LearningConfig:
     """Every agent on every target at the paper's 2- and 5-minute caps, counted in evaluations
     under three rates, in paired runs (run r of a target has one seed for every agent).
 
-    ``budgets`` are the caps in evaluations at the paper's rate (its Unity scored ~315 locations
-    per second); ``rates`` map them to evaluations per second: 315, a tenth and ten times. Each
+    ``budgets`` are the caps in evaluations at the paper's rate (its Unity scored ~315 locations per
+    second); ``rates`` map them to evaluations per second: 315, a tenth and ten times. Each
     agent but DQN runs ``runs`` times per target at the largest budget, stopped at its first
-    target cell (``oracle_stop``), and every smaller budget is read from that run; DQN (~0.4 ms
-    a step) runs ``dqn_runs`` times on ``dqn_targets`` at the paper's rate only. ``full_runs``
-    runs per paper-rate budget go to the cap: the best location each agent keeps (the baselines
-    carry the box there) and ``rollouts`` greedy walks of its policy. ``wall_caps_s`` of wall
-    clock on the ``wall_targets``: the paper's own protocol (configs/paper.json). ``margin``:
-    the equivalence margin on success rates; ``alpha``: every test's level after Holm's
-    correction (docs/learning.md)."""
+    target cell (``oracle_stop``), and every smaller budget is read from that run; DQN (a
+    network update a step) runs ``dqn_runs`` times on ``dqn_targets`` at the paper's rate only.
+    ``full_runs`` runs per paper-rate budget go to the cap: the best location each agent keeps
+    (the baselines carry the box there) and ``rollouts`` greedy walks of its policy.
+    ``wall_caps_s`` of wall clock on the ``wall_targets``: the paper's own protocol
+    (configs/paper.json). ``margin``: the equivalence margin on success rates; ``alpha``: every
+    test's level after Holm's correction (docs/learning.md)."""
 
     PAPER_RATE = 315.0
     """The paper's evaluations per second (3.4 M locations in ~3 h): the rate of ``budgets``."""
@@ -231,11 +231,11 @@ class PersonaliseConfig:
     objective: str = setting("paper_postural", choices=OBJECTIVES)
     searchers: tuple[str, ...] = setting(PERSONALISE_SEARCHERS, choices=SEARCHERS)
     budgets: tuple[int, ...] = setting((10, 25, 50, 100, 250, 1000), lo=1)
-    # Bayesian optimisation's proposals cost ~0.1 s each up to 25 trials and ~0.26 s at 100 on
-    # one core (the GP's refit and acquisition search), TPE's ~4-9 ms at 250-1,000, SAC's ~2 ms
-    # (a gradient step per env step); the default study caps them so that it stays within 45
-    # minutes on 2 cores, and configs/personalise_full.json runs them further (and Bayesian
-    # optimisation without the prior).
+    # Bayesian optimisation's proposals cost most (the GP's refit and acquisition search grow
+    # with the trials), then TPE's and SAC's (a gradient step per env step):
+    # experiments/bench_searchers.py measures them. The default study caps them so that it
+    # stays within 45 minutes on 2 cores, and configs/personalise_full.json runs them further
+    # (and Bayesian optimisation without the prior).
     budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
                                            "sac": 100}, lo=1)
 

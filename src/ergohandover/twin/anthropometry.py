@@ -243,7 +243,7 @@ class BodySpec:
             ``(name, value)`` pairs in metres (names: :func:`~.body_model.known_names`); any
             landmark not given is the body model's mean given the ones that are.
         proportions: "ansur2" (landmarks from the survey's body model) or "drillis-contini"
-            (the earlier twin: every length a fixed fraction of stature; no measurements).
+            (the fixed-ratio twin: every length a fixed fraction of stature; no measurements).
     """
 
     stature_m: float = PERCENTILES["p50-male"][0]
@@ -349,7 +349,7 @@ class BodySpec:
     @property
     def elbow_height_m(self) -> float:
         """Standing elbow height [m]: floor to the underside of the elbow, as ergonomics uses
-        it (the earlier twin: its elbow joint)."""
+        it (the fixed-ratio twin: its elbow joint)."""
         return landmarks_of(self)["elbow_height_m"]
 
     @property

@@ -33,8 +33,6 @@ from .warm_start import FineLattice
 SOLVERS = ("whole-body", "pybullet")
 """The twin's posture solvers: its own whole-body solver (balance, gaze, palms; compiled) and
 PyBullet's IK on the hands (the ablation's)."""
-SOLVER_ALIASES = {"numpy": "whole-body"}
-"""Former names still accepted: the whole-body solver was once selected as ``numpy``."""
 TRUNK_REFERENCES = ("vertical", "pelvis")
 HAND_TOLERANCE_M = 0.01
 REASONS = ("hand_miss", "box_collision", "unbalanced")
@@ -45,7 +43,7 @@ EVALUATION_COLUMNS = ("x", "y", "z", "feasible", "reason", "hand_error_m", *POST
                       *SCORE_COLUMNS)
 CHUNK = 4000
 """Locations per call: arrays small enough for the numpy stages, progress a few times a second,
-and few enough calls that their fixed cost (~1 ms to score a call) stays small."""
+and few enough calls that each call's fixed cost (scoring is vectorised per call) stays small."""
 JOINT_PREFIX = "q_"
 """Joint-angle columns (``q_<joint>`` [rad], one per movable joint of the twin) that
 :func:`evaluate_batch` adds: the solved posture, for pictures and the robot scene."""
@@ -69,8 +67,6 @@ class Evaluator:
     pelvis (the lumbar spine's own bend, as a joint-angle model would read it)."""
 
     def __post_init__(self):
-        if self.solver in SOLVER_ALIASES:  # a frozen field: renamed once, here
-            object.__setattr__(self, "solver", SOLVER_ALIASES[self.solver])
         for name, allowed in (("solver", SOLVERS), ("trunk_reference", TRUNK_REFERENCES)):
             if getattr(self, name) not in allowed:
                 raise EvaluationError(f"{name} = {getattr(self, name)!r} is not allowed (use "

@@ -8,15 +8,14 @@ identity with a Cholesky factor of the SPD m x m system (instead of an LU solve)
 scaling, the projection onto the joint limits and the accept/reject rule of
 ``PostureSolver.iterate_numpy``, with the same settings. A rejected trial posture's Jacobian
 is never computed, and the m x m product J D⁻¹Jᵀ is one small BLAS call (numba's ``np.dot``,
-through SciPy's BLAS): 1.3x faster than the scalar loops it replaced (measured in one process,
-alternating), with results that differ from them only by rounding.
+through SciPy's BLAS), faster than scalar loops (experiments/bench_evaluate.py times the
+solve), with results that differ from them only by rounding.
 
 Per-location arithmetic (no fastmath, one BLAS thread) makes every result bit-identical
 whatever else is in the batch. A location stops early only when a step is
 rejected at the largest damping: every later iteration would repeat that same rejected step,
-so stopping changes nothing. (Stopping once steps become small was measured and not used: on
-the paper-code grid most locations still take or reject sizeable steps up to the last
-iteration, so even a 1e-6 rad threshold saved only ~4 % of the iterations.)
+so stopping changes nothing. (Stopping once steps become small is not used: on the paper-code
+grid most locations still take or reject sizeable steps up to the last iteration.)
 
 Compiled on first use and cached on disk (``cache=True``); ``PostureSolver.lattice`` runs it
 before any worker process forks, so workers never compile.
@@ -31,7 +30,6 @@ from numba import njit
 
 from .anthropometry import GRAVITY
 from .kernel_tasks import (
-    GRIP_ROW,
     JIT,
     ROWS,
     effort_relations,
@@ -42,6 +40,10 @@ from .kernel_tasks import (
 )
 from .skeleton import PALM_NORMAL
 from .tasks import EFFORT_JOINTS
+
+TAKES = 12
+"""Where the task's scalars hold each hand's share of the object (left, right): a hand that
+takes none has no grip to miss."""
 
 LAM_MIN, LAM_MAX = 1e-6, 1e6  # the damping's range, as in PostureSolver.iterate_numpy
 
@@ -200,7 +202,7 @@ def solve_batch(starts, targets, iterations, kin, task, q_out, pos_out, rot_out,
         cost_out[i] = cost
         worst = 0.0
         for side in range(2):
-            if task[4][GRIP_ROW[side]] == 0.0:  # a hand that takes nothing misses nothing
+            if task[2][TAKES + side] == 0.0:  # a hand that takes nothing misses nothing
                 continue
             d = 0.0
             for c in range(3):
@@ -278,10 +280,11 @@ class PackedSolver:
                             (0.0, 1.0, 0.0), solver.sight], dtype=float)
         x0, x1, y0, y1 = solver.support
         m = s.balance_margin
+        takes = solver.task.grip_shares()
         scalars = np.array([solver.eye_cone, x0 + m, x1 - m, y0 + m, y1 - m, s.damping,
                             np.radians(s.max_step_deg), mass_geom[:, 3].sum(), s.effort_free,
-                            *solver.hamstring])
-        weights = row_weights(s, solver.task.grip_shares())
+                            *solver.hamstring, *takes])
+        weights = row_weights(s, takes)
         scale = np.array([GRAVITY / solver.strengths[j] for j in EFFORT_JOINTS])
         carries = model.ancestors[mass_link][:, effort_joints].T  # (E, P)
         outside = np.full((len(effort_joints), max(1, (~carries).sum(axis=1).max())), -1,

@@ -7,7 +7,7 @@ Two proportion models:
   knee, hip, shoulder and wrist heights, upper arm, hand and foot lengths, shoulder and hip
   breadths. The joints the survey cannot reach (L5/S1, C7/T1, the head-neck joint) sit at a
   fixed offset from the nearest surveyed landmark (iliac crest, cervicale, ear canal).
-* ``drillis-contini``: the earlier twin, every length a fixed fraction of stature (Drillis &
+* ``drillis-contini``: the fixed-ratio twin, every length a fixed fraction of stature (Drillis &
   Contini 1966 as tabulated by Winter 2009, plus the estimates marked below), so a body's
   proportions never vary; kept to show what the survey's proportions change.
 
@@ -21,7 +21,7 @@ import numpy as np
 
 PROPORTIONS = ("ansur2", "drillis-contini")
 
-# The earlier twin's landmarks [fraction of stature]: Drillis & Contini / Winter (2009) unless
+# The fixed-ratio twin's landmarks [fraction of stature]: Drillis & Contini / Winter (2009) unless
 # marked as an estimate.
 RATIOS = {
     "ankle_height_m": 0.039,
@@ -41,7 +41,7 @@ RATIOS = {
 }
 
 # Offsets from a surveyed landmark to a joint the survey does not measure [fraction of stature].
-# They keep the earlier twin's estimates where the survey's landmark now stands: at the
+# They keep the fixed-ratio twin's estimates where the survey's landmark now stands: at the
 # survey's male means (iliac crest 0.604, cervicale 0.864, ear canal 0.925 of stature) they put
 # the joints at the earlier 0.585, 0.855 and 0.914.
 LUMBAR_BELOW_ILIAC_CREST = 0.019  # L5/S1 about one vertebra below the crests (L4/L5 level)
@@ -69,11 +69,11 @@ ORDER = (("elbow_height_m", "shoulder_height_m"), ("elbow_joint_height_m", "shou
 
 
 def ratio_landmarks(stature):
-    """The earlier twin's landmarks of a body of ``stature`` [m] (a number or an array)."""
+    """The fixed-ratio twin's landmarks of a body of ``stature`` [m] (a number or an array)."""
     out = {name: fraction * stature for name, fraction in RATIOS.items()}
     out["stature_m"] = stature
     out["elbow_joint_height_m"] = out["shoulder_height_m"] - out["upper_arm_length_m"]
-    # The earlier twin has no separate bent-elbow landmark: its elbow height is the joint's.
+    # The fixed-ratio twin has no separate bent-elbow landmark: its elbow height is the joint's.
     out["elbow_height_m"] = out["elbow_joint_height_m"]
     out["wrist_height_m"] = out["elbow_joint_height_m"] - out["forearm_length_m"]
     out["arm_length_m"] = out["shoulder_height_m"] - out["wrist_height_m"]
@@ -115,7 +115,7 @@ def in_order(landmarks: dict) -> np.ndarray:
     return ok
 
 
-# Segment sizes that no proportion model measures [fraction of stature], as in the earlier twin.
+# Segment sizes that no proportion model measures [fraction of stature], as in the fixed-ratio twin.
 EYE_ABOVE_HEAD_JOINT = 0.936 - 0.914  # Drillis & Contini / Winter eye level, above the joint
 SHAPE_FRACTIONS = {
     "eye_forward": 0.050,  # estimate: cornea ~9 cm in front of the occipital condyles

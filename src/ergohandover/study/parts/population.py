@@ -24,8 +24,8 @@ Writes results/population/:
   proportions.csv  penalty at each one-size location against stature, sex and proportions
                   (elbow height / stature, arm length / stature): least squares, each term's
                   coefficient, 95 % interval and p-value
-  earlier_twin.csv  the reference worker's optimum per objective sized by the survey's body
-                  model and by the earlier twin's fixed ratios of stature
+  fixed_ratio_twin.csv  the reference worker's optimum per objective sized by the survey's body
+                  model and by the fixed-ratio twin's fixed ratios of stature
   manifest.json
 """
 
@@ -72,9 +72,9 @@ def workforce_of(part: PopulationConfig) -> pd.DataFrame:
     return pd.concat([table, derived.drop(columns=[c for c in derived if c in table])], axis=1)
 
 
-def earlier_twin(grid: Grid, reference: Evaluator, engine: Engine) -> pd.DataFrame:
+def fixed_ratio_twin(grid: Grid, reference: Evaluator, engine: Engine) -> pd.DataFrame:
     """The reference worker's optimum per objective, sized by the survey's body model and by
-    the earlier twin's fixed ratios of stature (Drillis & Contini), on the population's grid."""
+    the fixed-ratio twin's fixed ratios of stature (Drillis & Contini), on the population's grid."""
     twins = {"ansur2": reference, "drillis-contini": dataclasses.replace(
         reference, body=dataclasses.replace(reference.body, proportions="drillis-contini"))}
     rows = []
@@ -151,7 +151,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         table = pd.concat([table, optima], axis=1)
         table = pd.concat([table, robot_serves(table, evaluators, engine.workers)], axis=1)
         tables = analyse(table, matrices, grid, part)
-        tables["earlier_twin"] = earlier_twin(grid, evaluators[-1], engine)
+        tables["fixed_ratio_twin"] = fixed_ratio_twin(grid, evaluators[-1], engine)
         for name, frame in tables.items():
             atomic_write_csv(frame, folder / f"{name}.csv")
         return {"grid": grid.describe(), **sweep}
