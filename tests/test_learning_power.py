@@ -218,3 +218,23 @@ def test_the_stated_power_is_what_the_tests_do():
                         for b, c, _ in draws])
     assert mcnemar_power(30, 0.3, 0.05, 0.05) == pytest.approx(rejected, abs=0.025)
 
+
+
+def test_a_job_uses_the_target_its_parent_prepared(rugged_file, monkeypatch):
+    """The parent computes each target once before the pool forks; a job then reads no
+    landscape of its own."""
+    from ergohandover.study import learning_runs
+
+    evaluator, grid = rugged_file
+    landscape = Landscape(grid, landscape_key(evaluator, grid), rugged_landscape().arrays, {})
+    monkeypatch.setattr(learning_runs, "_TARGETS", {})
+    prepared = learning_runs.prepare_target(landscape, "paper_postural", "minimum")
+
+    def no_reading(*args, **kwargs):
+        raise AssertionError("a job read a landscape its parent had prepared")
+
+    monkeypatch.setattr(learning_runs, "landscape_of", no_reading)
+    assert learning_runs.target_of(evaluator, grid, "paper_postural", "minimum") is prepared
+    row = run_job(RunJob("rugged", evaluator, grid, "paper_postural", "minimum", "qlearning",
+                         "b300", 300, None, 0, 1, "search", oracle_stop=True))["row"]
+    assert row["target_score"] == 4

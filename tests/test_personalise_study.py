@@ -188,3 +188,26 @@ def test_the_summary_reads_every_budget_from_the_runs():
 
 if __name__ == "__main__":
     sys.exit(pytest.main([__file__]))
+
+
+def test_a_job_uses_the_values_its_parent_prepared(monkeypatch):
+    """The parent computes each worker's objective once before the pool forks; a job then
+    reads no landscape of its own."""
+    from ergohandover.study import personalise
+    from ergohandover.twin.evaluate import Evaluator
+
+    landscape = bowl_landscape()
+    monkeypatch.setattr(personalise, "_VALUES", {})
+    prepared = personalise.prepare_values("w1", "paper_postural", landscape)
+
+    def no_reading(*args, **kwargs):
+        raise AssertionError("a job read a landscape its parent had prepared")
+
+    monkeypatch.setattr(personalise, "landscape_of", no_reading)
+    job = personalise.PersonaliseJob("w1", Evaluator(), landscape.grid, "paper_postural",
+                                     "random-order", 400, (3, 4), Prior((0, 1.1, 0.4),
+                                                                       (0.05,) * 3))
+    assert personalise.values_of(job) is prepared
+    rows = personalise.run_personalise_job(job)
+    assert [r["optimum_score"] for r in rows] == [5.0, 5.0]
+    assert all(r["best_score"] == 5.0 for r in rows)  # random order tries every cell in time

@@ -29,8 +29,8 @@ Progress = Callable[[int, float], None]
 
 
 UNITS = ("steps", "evaluations")
-"""What a search's budget counts. ``steps``: every score an agent reads (an env step, or a draw
-of random sampling), repeats included: the learners' unit. ``evaluations``: distinct cells
+"""What a search's budget counts. ``steps``: every score an agent reads (an env step, or one of
+random draws), repeats included: the learners' unit. ``evaluations``: distinct cells
 scored, a repeat answered from memory for nothing (:class:`~.protocol.Evaluations`): the unit
 of a real handover."""
 

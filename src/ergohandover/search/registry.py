@@ -77,7 +77,7 @@ class Entry:
         return self.kind == "learner"
 
 
-def _warm(name: str, label: str, make: str) -> tuple[Entry, Entry]:
+def with_prior_variant(name: str, label: str, make: str) -> tuple[Entry, Entry]:
     """An ask/tell searcher and its entry always warm-started by the worker's prior."""
     return (Entry(name, label, "searcher", make, prior="optional"),
             Entry(f"{name}+prior", f"{label} + prior", "searcher", make, prior="needs",
@@ -100,10 +100,10 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
     Entry("hillclimb", "hill-climbing", "walk", ".walks:run_hillclimb"),
     Entry("random-order", "random order", "searcher", ".random_order:RandomOrderSearcher"),
     Entry("prior", "population prior", "searcher", ".prior_search:PriorSearcher", prior="needs"),
-    *_warm("bo", "Bayesian optimisation (GP)", ".optuna_searchers:GPSearcher"),
-    *_warm("tpe", "TPE", ".optuna_searchers:TPESearcher"),
-    *_warm("cmaes", "CMA-ES", ".cmaes_search:CMAESSearcher"),
-    *_warm("pso", "particle swarm", ".pso:PSOSearcher"),
+    *with_prior_variant("bo", "Bayesian optimisation (GP)", ".optuna_searchers:GPSearcher"),
+    *with_prior_variant("tpe", "TPE", ".optuna_searchers:TPESearcher"),
+    *with_prior_variant("cmaes", "CMA-ES", ".cmaes_search:CMAESSearcher"),
+    *with_prior_variant("pso", "particle swarm", ".pso:PSOSearcher"),
 )}
 """Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
 adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk

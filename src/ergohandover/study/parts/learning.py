@@ -33,15 +33,11 @@ manifest.json.
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
 import pandas as pd
-from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
@@ -63,7 +59,7 @@ from ..learning_summary import comparisons, curves, found_locations, power, summ
 from ..resume import run_part
 from ..script import duration
 from . import landscape as landscape_part
-from .shared import grid_of, landscape
+from .shared import grid_of, landscape, run_jobs
 
 
 @dataclass(frozen=True)
@@ -180,25 +176,6 @@ def estimate_s(config: StudyConfig, workers: int, folder: Path) -> float | None:
     return sum(job_seconds(j, speeds) for j in jobs) / max(1, workers)
 
 
-@contextmanager
-def ticking(bar: tqdm, every_s: float = 1.0) -> Iterator[None]:
-    """Redraw ``bar`` every ``every_s`` seconds while the block runs, so that its clock moves
-    while a long run (a DQN run takes most of a minute) holds every worker."""
-    stop = threading.Event()
-
-    def tick() -> None:
-        while not stop.wait(every_s):
-            bar.refresh()  # tqdm's own lock keeps this from crossing an update
-
-    clock = threading.Thread(target=tick, daemon=True)
-    clock.start()
-    try:
-        yield
-    finally:
-        stop.set()
-        clock.join()
-
-
 def target_table(config: StudyConfig, found: dict[str, Landscape]) -> pd.DataFrame:
     """targets.csv: each target's landscape, objective, goal and cells (computed here once, for
     this process and the workers it forks: :func:`~..learning_runs.prepare_target`)."""
@@ -265,21 +242,10 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         took = (f"about {duration(sum(cost) / max(1, engine.workers))} at the last run's speeds"
                 if measured else "not measured yet")
         print(f"  {len(jobs)} runs on {engine.workers} workers: {took}")
-        done = []
         # The bar counts estimated seconds of work where the speeds are known, not runs: the
         # runs differ 1,000-fold in length and the longest go first, so a count of runs would
         # promise hours at the start.
-        # The pool forks before the bar's clock thread starts (a fork copies no threads).
-        with engine.executor() as executor, \
-                tqdm(total=round(sum(cost), 1), desc="learning", smoothing=0,
-                     bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
-                     ) as bar, ticking(bar):
-            bar.set_description_str(f"learning (0/{len(jobs)} runs)")
-            for index, result in executor.map_unordered(run_job, jobs):
-                done.append(result)
-                bar.set_description_str(f"learning ({len(done)}/{len(jobs)} runs)",
-                                        refresh=False)
-                bar.update(cost[index])
+        done = run_jobs(engine, run_job, jobs, "learning", cost)
         written = tables(config, done, targets)
         for name, table in written.items():
             atomic_write_csv(table, folder / f"{name}.csv")

@@ -30,7 +30,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
@@ -50,7 +49,7 @@ from ..resume import run_part
 from ..workforce import bodies
 from . import population as population_part
 from .population import workforce_of
-from .shared import grid_of, landscapes
+from .shared import grid_of, landscapes, run_jobs
 
 
 def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
@@ -104,16 +103,12 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
                 for s in searchers for w, e in zip(chosen["worker"], evaluators, strict=True)]
         print(f"  {len(part.searchers)} searchers x {len(chosen)} workers x {part.runs} runs, "
               f"up to {max(largest.values()):,} evaluations each")
-        rows, started = [], time.perf_counter()
-        seconds: dict[str, float] = {}
-        with engine.executor() as executor, tqdm(total=len(jobs), desc="personalise",
-                                                 unit="job") as bar:
-            for index, done in executor.map_unordered(timed_job, jobs):
-                found_rows, took = done
-                rows += found_rows
-                name = jobs[index].searcher
-                seconds[name] = seconds.get(name, 0.0) + took
-                bar.update()
+        started = time.perf_counter()
+        rows, seconds = [], {}
+        for job, (found_rows, spent) in zip(
+                jobs, run_jobs(engine, timed_job, jobs, "personalise"), strict=True):
+            rows += found_rows
+            seconds[job.searcher] = seconds.get(job.searcher, 0.0) + spent
         order = {s: i for i, s in enumerate(part.searchers)}
         worker_order = {w: i for i, w in enumerate(chosen["worker"])}
         runs = pd.DataFrame(rows).sort_values(

@@ -3,7 +3,12 @@ landscape door and the study's engine."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+from tqdm import tqdm
 
 from ...landscape import Landscape
 from ...landscape.grid import Grid, parse_boundary
@@ -48,3 +53,42 @@ def default_landscape(config: StudyConfig, engine: Engine) -> Landscape:
     evaluator = config.evaluator()
     return landscape(engine, evaluator, grid_of(evaluator, config.landscape.boundary,
                                                 config.landscape.step))
+
+
+@contextmanager
+def ticking(bar: tqdm, every_s: float = 1.0) -> Iterator[None]:
+    """Redraw ``bar`` every ``every_s`` seconds while the block runs, so that its clock moves
+    while long runs hold every worker."""
+    stop = threading.Event()
+
+    def tick() -> None:
+        while not stop.wait(every_s):
+            bar.refresh()  # tqdm's own lock keeps this from crossing an update
+
+    clock = threading.Thread(target=tick, daemon=True)
+    clock.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        clock.join()
+
+
+def run_jobs(engine: Engine, work: Callable[[Any], Any], jobs: Sequence, label: str,
+             cost: Sequence[float] | None = None) -> list:
+    """Every job through ``work`` on the engine's pool (the parent's prepared data inherited
+    by its forked workers), the results in the jobs' order; the bar counts ``cost`` per job
+    (default: one), so that runs that differ a thousandfold in length show honest progress."""
+    cost = [1.0] * len(jobs) if cost is None else list(cost)
+    results: list = [None] * len(jobs)
+    # The pool forks before the bar's clock thread starts (a fork copies no threads).
+    with engine.executor() as executor, \
+            tqdm(total=round(sum(cost), 1), desc=label, smoothing=0,
+                 bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
+                 ) as bar, ticking(bar):
+        bar.set_description_str(f"{label} (0/{len(jobs)})")
+        for done, (index, result) in enumerate(executor.map_unordered(work, jobs), start=1):
+            results[index] = result
+            bar.set_description_str(f"{label} ({done}/{len(jobs)})", refresh=False)
+            bar.update(cost[index])
+    return results
