@@ -120,8 +120,7 @@ def main(argv: list[str] | None = None) -> int:
     total = sum(seconds.values())
     unmeasured = [p for p, s in found.items() if s is None]
     known = ", ".join(f"{p} {duration(s)}" for p, s in seconds.items())
-    plan = ("; ".join(filter(None, (f"estimated {duration(total)}" + (f": {known}" if known
-                                                                       else ""),
+    plan = ("; ".join(filter(None, (f"estimated {duration(total)}: {known}" if known else "",
                                     f"not measured yet: {', '.join(unmeasured)}" if unmeasured
                                     else "")))
             if todo else "every part is finished already")
@@ -134,8 +133,8 @@ def main(argv: list[str] | None = None) -> int:
             run_steps(steps, config, results, figures, engine, args.force)
     except ErgohandoverError as exc:
         fail(exc)
-    print(f"run_all done in {duration(time.perf_counter() - start)} "
-          f"(estimated {duration(total)})")
+    estimated = f" (estimated {duration(total)})" if seconds else ""
+    print(f"run_all done in {duration(time.perf_counter() - start)}{estimated}")
     return 0
 
 
