@@ -86,8 +86,10 @@ class Evaluations:
         """Why no more may be evaluated (:attr:`Record.stopped_by`'s words), or None."""
         if self.tracker.reached:
             return "stop_score"
-        if self.spent >= self.limit:
-            return "grid" if self.spent >= self.grid.size else "evaluation_cap"
+        if self.budget.evaluations is not None and self.spent >= self.budget.evaluations:
+            return "evaluation_cap"
+        if self.spent >= self.grid.size:
+            return "grid"
         if self.asks >= ASKS_PER_EVALUATION * self.limit:
             return "ask_cap"
         if self.tracker.elapsed() >= self.budget.time_limit:
