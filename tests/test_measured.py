@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ergohandover.envs import OnlineScores
@@ -73,3 +74,44 @@ def test_bad_settings_are_refused():
                        np.random.default_rng(0))
     with pytest.raises(ConfigError, match="block = 0"):
         MeasuredScores(GRID, EVALUATOR, "reba", ErrorModel(5.0), np.random.default_rng(0), 0)
+
+
+def test_the_recommendation_is_the_first_lowest_measured_score_within_the_budget():
+    from ergohandover.study.measured_answers import recommendation
+
+    scores = [math.inf, 7.0, 5.0, 6.0, 5.0, 4.0]
+    assert recommendation(scores, 2) == 1
+    assert recommendation(scores, 5) == 2  # the first of equals
+    assert recommendation(scores, 6) == 5
+    assert recommendation([math.inf, math.inf], 2) is None
+
+
+def measured_job(sd: float, searcher: str = "cmaes+prior"):
+    from ergohandover.search.prior import Prior
+    from ergohandover.study.measured_answers import MeasuredJob
+
+    return MeasuredJob("w1", EVALUATOR, GRID, "paper_postural", searcher, sd, (3, 10, 30),
+                       (11, 12, 13), Prior((0.0, 1.1, 0.4), (0.05, 0.05, 0.05)))
+
+
+def test_measured_runs_report_the_true_regret_of_what_was_observed():
+    from ergohandover.study.measured_answers import measured_summary, run_measured_job
+    from ergohandover.study.personalise import values_of
+
+    job = measured_job(0.0)
+    values = values_of(job)
+    exact = pd.DataFrame(run_measured_job(job))
+    assert len(exact) == 3 * 3 and (exact["optimum_score"] == values.min()).all()
+    # Without error the measured score is the true one, and more handovers never do worse.
+    assert (exact["measured_score"] == exact["true_score"]).all()
+    for _, run in exact.groupby("run"):
+        assert run["regret"].is_monotonic_decreasing and (run["regret"] >= 0).all()
+    noisy = pd.DataFrame(run_measured_job(measured_job(10.0)))
+    assert noisy.equals(pd.DataFrame(run_measured_job(measured_job(10.0))))  # seeded
+    assert (noisy["regret"] >= 0).all()
+    assert (noisy["measured_score"] != noisy["true_score"]).any()  # the error shows
+    summary = measured_summary(pd.concat([exact, noisy]), seed=0)
+    assert len(summary) == 2 * 3
+    for _, row in summary.iterrows():
+        assert row.ci_low <= row.p_regret_0 <= row.ci_high
+        assert row.regret_ci_low <= row.mean_regret <= row.regret_ci_high

@@ -41,10 +41,13 @@ class MeasuredScores(ScoreSource):
         model: the measurement error.
         rng: the errors' generator (one per source: its own stream of measurements).
         block: cube edge [cells] of postures solved together on a miss (1: only the cell).
+        postures: cell -> posture (None: infeasible) solved before for this worker and grid,
+            shared with other sources of the same worker (filled as cells are solved).
     """
 
     def __init__(self, grid: Grid, evaluator: Evaluator, objective: str, model: ErrorModel,
-                 rng: np.random.Generator, block: int = 1):
+                 rng: np.random.Generator, block: int = 1,
+                 postures: dict[int, dict[str, float] | None] | None = None):
         if objective not in MEASURED:
             raise ConfigError(f"objective = {objective!r} is not allowed for measured answers "
                               f"(use {', '.join(MEASURED)})")
@@ -53,7 +56,7 @@ class MeasuredScores(ScoreSource):
         self.grid, self.evaluator, self.objective = grid, evaluator, objective
         self.model, self.rng, self.block = model, rng, block
         self.measurements = 0  # handovers measured so far
-        self._postures: dict[int, dict[str, float] | None] = {}  # None: infeasible
+        self._postures = {} if postures is None else postures  # None: infeasible
 
     def score(self, flat: int) -> float:
         posture = self.posture(flat)

@@ -238,6 +238,14 @@ class PersonaliseConfig:
     # (and Bayesian optimisation without the prior).
     budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
                                            "sac": 100}, lo=1)
+    # Answers measured with error (study/measured_answers.py): equal budgets, no stop rule,
+    # the recommendation's true regret; Bayesian optimisation's cost sets its largest budget.
+    measured_searchers: tuple[str, ...] = setting(
+        ("random-order", "prior", "bo+prior", "tpe+prior", "cmaes+prior", "pso+prior"),
+        choices=SEARCHERS)
+    measured_sds: tuple[float, ...] = setting((0.0, 5.0), lo=0, unit="deg")
+    measured_budgets: tuple[int, ...] = setting((5, 10, 15, 25), lo=1)
+    measured_runs: int = setting(5, lo=0)
 
     def __post_init__(self):
         for name in self.budget_caps:

@@ -19,6 +19,12 @@ Writes results/personalise/:
                 of runs that reached the target (95 % interval: bootstrap over workers, at
                 least Wilson's), median evaluations to the optimum and to within one point
   curves.csv    share of runs at the target within n evaluations, per searcher
+  measured_runs.csv     answers measured with error (study/measured_answers.py): per worker,
+                        searcher, error SD, run and budget, the recommendation (the lowest
+                        measured score's location) and its true regret
+  measured_summary.csv  per searcher, error SD and budget: the share of runs whose
+                        recommendation is a true optimum and the mean true regret, with
+                        intervals over workers
   manifest.json
 """
 
@@ -36,6 +42,7 @@ from ...landscape import Landscape
 from ...twin.evaluate import Evaluator
 from ..config import StudyConfig
 from ..engines import Engine
+from ..measured_answers import MeasuredJob, measured_summary, run_measured_job
 from ..personalise import (
     PersonaliseJob,
     leave_one_out_priors,
@@ -119,12 +126,43 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         atomic_write_csv(runs, folder / "runs.csv")
         atomic_write_csv(summary(runs, budgets, part.seed), folder / "summary.csv")
         atomic_write_csv(success_curves(runs, largest), folder / "curves.csv")
+        measured = measured_tables(part, chosen, evaluators, grid, priors, engine)
+        for name, table in measured.items():
+            atomic_write_csv(table, folder / f"{name}.csv")
         return {"runs": len(runs), "searcher_seconds": {k: round(v, 1)
                                                         for k, v in seconds.items()},
-                "search_wall_s": round(time.perf_counter() - started, 1)}
+                "search_wall_s": round(time.perf_counter() - started, 1),
+                "measured_rows": len(measured.get("measured_runs", ()))}
 
     return run_part("personalise", results / "personalise", config.part_inputs("personalise"),
                     work, seeds={"runs": part.seed}, force=force, engine=engine)
+
+
+def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid, priors: dict,
+                    engine: Engine) -> dict[str, pd.DataFrame]:
+    """The runs with answers measured with error, and their summary (none if the
+    configuration asks for none)."""
+    if not (part.measured_runs and part.measured_sds and part.measured_searchers):
+        return {}
+    # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
+    searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
+    jobs = [MeasuredJob(w, e, grid, part.objective, s, sd, part.measured_budgets,
+                        run_seeds(part.seed, w, part.measured_runs), priors[w])
+            for s in searchers for sd in part.measured_sds
+            for w, e in zip(chosen["worker"], evaluators, strict=True)]
+    print(f"  measured answers: {len(part.measured_searchers)} searchers x "
+          f"{len(part.measured_sds)} error SDs x {len(chosen)} workers x {part.measured_runs} "
+          f"runs, {max(part.measured_budgets)} handovers each")
+    rows = [row for found in run_jobs(engine, run_measured_job, jobs, "measured answers")
+            for row in found]
+    order = {s: i for i, s in enumerate(part.measured_searchers)}
+    worker_order = {w: i for i, w in enumerate(chosen["worker"])}
+    runs = pd.DataFrame(rows).sort_values(
+        ["searcher", "sd_deg", "worker", "run", "budget"], kind="stable", ignore_index=True,
+        key=lambda c: c.map(order) if c.name == "searcher" else
+        c.map(worker_order) if c.name == "worker" else c)
+    seed = int(np.random.SeedSequence([part.seed, 1]).generate_state(1)[0])
+    return {"measured_runs": runs, "measured_summary": measured_summary(runs, seed)}
 
 
 def earlier_seconds(folder: Path) -> dict[str, float]:
