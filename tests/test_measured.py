@@ -104,8 +104,8 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
     assert len(exact) == 3 * 3 and (exact["optimum_score"] == values.min()).all()
     # Without error the measured score is the true one, and more handovers never do worse.
     assert (exact["measured_score"] == exact["true_score"]).all()
-    for _, run in exact.groupby("run"):
-        assert run["regret"].is_monotonic_decreasing and (run["regret"] >= 0).all()
+    for _, one in exact.groupby("run"):
+        assert one["regret"].is_monotonic_decreasing and (one["regret"] >= 0).all()
     noisy = pd.DataFrame(run_measured_job(measured_job(10.0)))
     assert noisy.equals(pd.DataFrame(run_measured_job(measured_job(10.0))))  # seeded
     assert (noisy["regret"] >= 0).all()
