@@ -1,5 +1,5 @@
 """The committed personalisation study: at least seven searchers (the population prior,
-Bayesian optimisation, CMA-ES, PSO, SAC, random sampling and the paper's Q-learning among them)
+Bayesian optimisation, CMA-ES, PSO, SAC, random order and the paper's Q-learning among them)
 on at least 30 workers with at least 10 paired runs each; every summary row read again from the
 runs; the report's blocks and the command's default searcher equal to what the results say."""
 
@@ -102,3 +102,25 @@ def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
     assert done.returncode == 2
     assert done.stderr.strip().count("\n") == 0 and "'nope' names no searcher" in done.stderr
     assert not any(tmp_path.iterdir())
+
+
+def test_the_measured_answers_cover_every_searcher_error_and_budget_and_sum_up():
+    from ergohandover.study.config import StudyConfig
+
+    part = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ()).personalise
+    runs, summary = read("measured_runs.csv"), read("measured_summary.csv")
+    keys = {(s, float(sd), b) for s in part.measured_searchers for sd in part.measured_sds
+            for b in part.measured_budgets}
+    assert set(zip(summary["searcher"], summary["sd_deg"], summary["budget"], strict=True)) \
+        == keys
+    assert (summary["n_workers"] == part.workers).all()
+    assert (summary["n_runs"] == part.workers * part.measured_runs).all()
+    assert (runs["regret"] >= 0).all() and (runs["handovers"] <= runs["budget"]).all()
+    # Without error what was measured is the truth.
+    exact = runs[runs["sd_deg"] == 0]
+    assert (exact["measured_score"] == exact["true_score"]).all()
+    shares = runs.assign(zero=runs["regret"] == 0).groupby(
+        ["searcher", "sd_deg", "budget"], sort=False)["zero"].mean()
+    for row in summary.itertuples():
+        assert row.p_regret_0 == pytest.approx(shares[(row.searcher, row.sd_deg, row.budget)])
+        assert row.ci_low <= row.p_regret_0 <= row.ci_high

@@ -254,7 +254,7 @@ def test_report_run_times_are_the_committed_manifests():
     for quoted in (f"the learning part's {learned:,} runs {minutes('learning'):.1f}",
                    f"the personalisation part's {len(searches):,} runs "
                    f"{minutes('personalise'):.1f} minutes",
-                   f"Bayesian optimisation is {seconds['bo+prior']:.0f} of its "
+                   f"Bayesian optimisation is {seconds['bo+prior']:.0f} of the exact runs' "
                    f"{sum(seconds.values()):,.0f} seconds",
                    f"the robustness part {minutes('robustness'):.1f}",
                    f"the stance part {minutes('stance'):.1f}",

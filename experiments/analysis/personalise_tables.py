@@ -12,6 +12,8 @@ from pathlib import Path
 import pandas as pd
 from readme_blocks import rewrite
 
+from ergohandover.search.registry import SEARCHERS
+
 NAMES = {"random-order": "random order", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
          "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
@@ -19,9 +21,9 @@ NAMES = {"random-order": "random order", "prior": "the population prior alone",
 
 
 def label(searcher: str) -> str:
-    """A searcher's name in prose: ``Bayesian optimisation (GP) + prior``."""
-    base, _, suffix = searcher.partition("+")
-    return NAMES.get(base, base) + (" from the prior" if suffix else "")
+    """A searcher's name in prose: ``Bayesian optimisation (GP) from the prior``."""
+    base = SEARCHERS[searcher].variant_of if searcher in SEARCHERS else None
+    return (NAMES.get(base, base) + " from the prior") if base else NAMES.get(searcher, searcher)
 
 
 def _read(results: Path, name: str) -> pd.DataFrame:
@@ -105,12 +107,39 @@ def headline(summary: pd.DataFrame) -> str:
     return text + (f" ({', '.join(others)})" if others else "")
 
 
+def measured_table(measured: pd.DataFrame) -> list[str]:
+    """Per searcher and error SD: the share of runs whose recommendation is a true optimum
+    after each budget (95 % interval over workers), and the mean true regret at the largest."""
+    budgets = sorted(measured["budget"].unique())
+    largest = budgets[-1]
+    head = " | ".join(f"after {b}" for b in budgets)
+    lines = [f"| searcher | error SD | recommendation a true optimum {head} | mean true "
+             f"regret after {largest} [points] |",
+             "|---|---|" + "---|" * len(budgets) + "---|"]
+    for (searcher, sd), table in measured.groupby(["searcher", "sd_deg"], sort=False):
+        rows = table.set_index("budget")
+        cells = [f"{rows.loc[b, 'p_regret_0']:.0%} ({rows.loc[b, 'ci_low']:.0%}–"
+                 f"{rows.loc[b, 'ci_high']:.0%})" for b in budgets]
+        last = rows.loc[largest]
+        lines.append(f"| {label(searcher)} | {sd:g}° | {' | '.join(cells)} | "
+                     f"{last['mean_regret']:.2f} ({last['regret_ci_low']:.2f}–"
+                     f"{last['regret_ci_high']:.2f}) |")
+    first = measured.iloc[0]
+    lines += ["", f"{int(first['n_workers'])} workers, {int(first['n_runs'])} runs per "
+              "searcher, error SD and budget."]
+    return lines
+
+
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/personalise/ only."""
     summary = _read(results, "summary.csv")
-    return {"personalise-headline": headline(summary),
-            "personalise-answer": answer(summary),
-            "personalise-table": "\n" + "\n".join(summary_table(summary)) + "\n"}
+    found = {"personalise-headline": headline(summary),
+             "personalise-answer": answer(summary),
+             "personalise-table": "\n" + "\n".join(summary_table(summary)) + "\n"}
+    if (results / "personalise" / "measured_summary.csv").is_file():
+        measured = _read(results, "measured_summary.csv")
+        found["personalise-measured"] = "\n" + "\n".join(measured_table(measured)) + "\n"
+    return found
 
 
 def section(results: Path) -> list[str]:
