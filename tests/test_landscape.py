@@ -280,3 +280,16 @@ def test_stats_of_a_corrupted_file_exit_2(tmp_path):
     result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "landscape-stats",
                              str(bad)], capture_output=True, text=True)
     assert result.returncode == 2 and "not a readable landscape" in result.stderr
+
+
+def test_an_aligned_block_is_the_cube_that_holds_the_cell_cut_at_the_faces():
+    grid = Grid(Boundary((0.0, 0.04), (1.0, 1.06), (0.3, 0.32)), 0.01)  # 5 x 7 x 3 cells
+    inner = int(np.ravel_multi_index((1, 4, 1), grid.shape))
+    block = grid.aligned_block(inner, 2)
+    idx = np.stack(np.unravel_index(block, grid.shape), axis=1)
+    assert inner in block and len(block) == 8
+    assert sorted(map(tuple, idx.tolist())) == [(i, j, k) for i in (0, 1) for j in (4, 5)
+                                                 for k in (0, 1)]
+    corner = int(np.ravel_multi_index((4, 6, 2), grid.shape))  # at the far faces: cut
+    assert grid.aligned_block(corner, 2).tolist() == [corner]
+    assert grid.aligned_block(corner, 1).tolist() == [corner]

@@ -218,17 +218,12 @@ def run(args: argparse.Namespace) -> int:
             result.best_score <= truth.score))
     resolved = {**{k: (str(v) if isinstance(v, Path) else v) for k, v in config.items()},
                 **source, "agent_config": result.settings, "output": str(output)}
-    paths = write_record(result, location_of(scores.grid), output, resolved,
+    paths = write_record(result, scores.grid.point, output, resolved,
                          seeds={"run": config["seed"]}, extra=extra)
     report(result, scores.grid, config, truth, time.perf_counter() - started)
     for path in paths:
         print(f"wrote {path}", file=sys.stderr)
     return 0
-
-
-def location_of(grid):
-    """flat cell -> its (x, y, z) [m]."""
-    return lambda cell: tuple(float(v) for v in grid.coordinates([cell])[0])
 
 
 def report(result, grid, config: dict, truth, wall_s: float) -> None:
@@ -241,7 +236,7 @@ def report(result, grid, config: dict, truth, wall_s: float) -> None:
     cells = list(result.best_cells)
     from ..search.record import best_locations
 
-    top = best_locations(result, location_of(grid)).iloc[0]
+    top = best_locations(result, grid.point).iloc[0]
     time_s, step = result.first_reached
     print(f"{result.searcher} seed {config['seed']}: best {objective} {result.best_score:g} at "
           f"(x, y, z) = ({top.x:.3f}, {top.y:.3f}, {top.z:.3f}) m (most symmetric of "

@@ -152,11 +152,7 @@ class OnlineScores(ScoreSource):
         return value
 
     def _fill(self, flat: int) -> None:
-        shape = self.grid.shape
-        cell = np.unravel_index(flat, shape)
-        ranges = [np.arange(c - c % self.block, min(c - c % self.block + self.block, n))
-                  for c, n in zip(cell, shape, strict=True)]
-        cells = np.ravel_multi_index(np.meshgrid(*ranges, indexing="ij"), shape).ravel()
+        cells = self.grid.aligned_block(flat, self.block)
         rows = evaluate_arrays(self.grid.coordinates(cells), self.evaluator,
                                columns=("flags", self.objective))
         feasible = rows["flags"] == 0

@@ -72,6 +72,18 @@ class Grid:
         stop = self.size if stop is None else stop
         return self.coordinates(np.arange(start, stop))
 
+    def point(self, flat: int) -> tuple[float, float, float]:
+        """The location (x, y, z) [m] of one flat cell."""
+        return tuple(float(v) for v in self.coordinates([int(flat)])[0])
+
+    def aligned_block(self, flat: int, edge: int) -> np.ndarray:
+        """The flat cells of the aligned cube of ``edge``³ cells that holds cell ``flat``
+        (cut at the grid's faces): what a score source evaluates together on a miss."""
+        cell = np.unravel_index(int(flat), self.shape)
+        ranges = [np.arange(c - c % edge, min(c - c % edge + edge, n))
+                  for c, n in zip(cell, self.shape, strict=True)]
+        return np.ravel_multi_index(np.meshgrid(*ranges, indexing="ij"), self.shape).ravel()
+
     def coordinates(self, flat: np.ndarray) -> np.ndarray:
         """(n, 3) coordinates of flat indices."""
         idx = np.stack(np.unravel_index(np.asarray(flat), self.shape), axis=-1)  # (n, 3)

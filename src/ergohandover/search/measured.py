@@ -76,11 +76,7 @@ class MeasuredScores(ScoreSource):
         return self._postures[flat]
 
     def _solve(self, flat: int) -> None:
-        shape = self.grid.shape
-        cell = np.unravel_index(flat, shape)
-        ranges = [np.arange(c - c % self.block, min(c - c % self.block + self.block, n))
-                  for c, n in zip(cell, shape, strict=True)]
-        cells = np.ravel_multi_index(np.meshgrid(*ranges, indexing="ij"), shape).ravel()
+        cells = self.grid.aligned_block(flat, self.block)
         found = evaluate_arrays(self.grid.coordinates(cells), self.evaluator,
                                 columns=("feasible", *POSTURE_COLUMNS))
         for i, c in enumerate(cells.tolist()):

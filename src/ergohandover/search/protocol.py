@@ -66,15 +66,12 @@ class Evaluations:
             raise ConfigError("evaluations are counted in evaluations, not steps")
         self.source, self.grid, self.budget = scores, scores.grid, budget
         self.limit = min(budget.evaluations or scores.grid.size, scores.grid.size)
-        self.tracker = Tracker(self._location, budget.stop_score, budget.stop_cells)
+        self.tracker = Tracker(scores.grid.point, budget.stop_score, budget.stop_cells)
         self.known: dict[int, float] = {}
         self.asks, self.progress = 0, progress
         for cell, score in known:
             self._add(int(cell), finite_or_inf(float(score)))
         self.asks = len(self.known)
-
-    def _location(self, cell: int) -> tuple[float, float, float]:
-        return tuple(float(v) for v in self.grid.coordinates([cell])[0])
 
     @property
     def spent(self) -> int:
