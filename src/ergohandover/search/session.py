@@ -201,7 +201,7 @@ class AnsweredScores(ScoreSource):
         self.budget, self.say = budget, say
 
     def score(self, flat: int) -> float:
-        location = tuple(round(float(v), 9) for v in self.grid.coordinates([flat])[0])
+        location = tuple(round(v, 9) for v in self.grid.point(flat))
         proposal = Proposal(len(self.session.trials) + 1, self.budget, flat, location)
         self.say(proposal.describe())
         answer = self.oracle.answer(proposal)

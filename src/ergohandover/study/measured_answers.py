@@ -94,7 +94,7 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
             best = recommendation(record.scores, budget)
             cell = None if best is None else record.cells[best]
             true = math.inf if cell is None else float(values[cell])
-            x, y, z = (math.nan,) * 3 if cell is None else job.grid.coordinates([cell])[0]
+            x, y, z = (math.nan,) * 3 if cell is None else job.grid.point(cell)
             rows.append({"worker": job.worker, "searcher": job.searcher, "sd_deg": job.sd,
                          "run": run, "seed": seed, "budget": budget,
                          "handovers": min(budget, len(record.cells)),

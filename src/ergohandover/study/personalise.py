@@ -114,7 +114,7 @@ def run_personalise_job(job: PersonaliseJob) -> list[dict]:
         record = search_once(job, values, seed)
         to_optimum, to_within = record.reached_at(lowest), record.reached_at(lowest + 1)
         cell, best = record.best or (-1, math.inf)
-        x, y, z = job.grid.coordinates([cell])[0] if cell >= 0 else (math.nan,) * 3
+        x, y, z = job.grid.point(cell) if cell >= 0 else (math.nan,) * 3
         rows.append({"worker": job.worker, "searcher": job.searcher, "run": run, "seed": seed,
                      "optimum_score": lowest,
                      "evals_to_optimum": math.nan if to_optimum is None else to_optimum,
