@@ -86,32 +86,127 @@ def test_the_recommendation_is_the_first_lowest_measured_score_within_the_budget
     assert recommendation([math.inf, math.inf], 2) is None
 
 
-def measured_job(sd: float, searcher: str = "cmaes+prior"):
+def measured_job(answers, searcher: str = "cmaes+prior", twin: str = "in-model",
+                 evaluator: Evaluator = EVALUATOR):
     from ergohandover.search.prior import Prior
     from ergohandover.study.measured_answers import MeasuredJob
 
-    return MeasuredJob("w1", EVALUATOR, GRID, "paper_postural", searcher, sd, (3, 10, 30),
-                       (11, 12, 13), Prior((0.0, 1.1, 0.4), (0.05, 0.05, 0.05)))
+    return MeasuredJob("w1", twin, evaluator, GRID, "paper_postural", searcher, answers,
+                       (3, 10, 30), (11, 12, 13), Prior((0.0, 1.1, 0.4), (0.05, 0.05, 0.05)))
 
 
 def test_measured_runs_report_the_true_regret_of_what_was_observed():
-    from ergohandover.study.measured_answers import measured_summary, run_measured_job
-    from ergohandover.study.personalise import values_of
+    from ergohandover.study.measured_answers import (
+        Answers,
+        measured_summary,
+        run_measured_job,
+        truth_of,
+    )
 
-    job = measured_job(0.0)
-    values = values_of(job)
+    job = measured_job(Answers("posture", 0.0))
+    values = truth_of(job)
     exact = pd.DataFrame(run_measured_job(job))
-    assert len(exact) == 3 * 3 and (exact["optimum_score"] == values.min()).all()
-    # Without error the measured score is the true one, and more handovers never do worse.
-    assert (exact["measured_score"] == exact["true_score"]).all()
-    for _, one in exact.groupby("run"):
+    assert len(exact) == 3 * 3 * 2 and (exact["optimum_score"] == values.min()).all()
+    assert set(exact["answers"]) == {"exact"} and set(exact["rule"]) == {"lowest", "confirm"}
+    lowest = exact[exact["rule"] == "lowest"]
+    # Without error the answer is the true score, and more handovers never do worse.
+    assert (lowest["answer"] == lowest["true_score"]).all()
+    for _, one in lowest.groupby("run"):
         assert one["regret"].is_monotonic_decreasing and (one["regret"] >= 0).all()
-    noisy = pd.DataFrame(run_measured_job(measured_job(10.0)))
-    assert noisy.equals(pd.DataFrame(run_measured_job(measured_job(10.0))))  # seeded
+    # Confirming spends the budget's last fifth measuring again: fewer locations searched.
+    confirm = exact[exact["rule"] == "confirm"]
+    assert (confirm["handovers"] <= confirm["budget"]).all()
+    assert (confirm["regret"].to_numpy() >= lowest["regret"].to_numpy()).all()
+    noisy = pd.DataFrame(run_measured_job(measured_job(Answers("posture", 10.0))))
+    assert noisy.equals(pd.DataFrame(run_measured_job(measured_job(Answers("posture", 10.0)))))
     assert (noisy["regret"] >= 0).all()
-    assert (noisy["measured_score"] != noisy["true_score"]).any()  # the error shows
-    summary = measured_summary(pd.concat([exact, noisy]), seed=0)
-    assert len(summary) == 2 * 3
+    assert (noisy["answer"] != noisy["true_score"]).any()  # the error shows
+    rated = pd.DataFrame(run_measured_job(measured_job(Answers("rater", 0.51))))
+    assert (rated["answer"] % 0.5 == 0).all()  # whole scores, or the mean of two
+    summary = measured_summary(pd.concat([exact, noisy, rated]), seed=0)
+    assert len(summary) == 3 * 2 * 3
     for _, row in summary.iterrows():
         assert row.ci_low <= row.p_regret_0 <= row.ci_high
         assert row.regret_ci_low <= row.mean_regret <= row.regret_ci_high
+
+
+def test_a_worker_whose_twin_differs_is_scored_by_that_twin():
+    import dataclasses
+
+    from ergohandover.study.measured_answers import Answers, run_measured_job, truth_of
+
+    other = dataclasses.replace(EVALUATOR, task=dataclasses.replace(EVALUATOR.task, gaze="off"))
+    job = measured_job(Answers("posture", 0.0), twin="gaze off", evaluator=other)
+    values = truth_of(job)
+    assert not np.array_equal(values, truth_of(measured_job(Answers("posture", 0.0))))
+    rows = pd.DataFrame(run_measured_job(job))
+    assert (rows["twin"] == "gaze off").all() and (rows["optimum_score"] == values.min()).all()
+    lowest = rows[rows["rule"] == "lowest"]
+    assert (lowest["true_score"] == values[lowest["cell"].to_numpy()]).all()
+
+
+def test_the_confirm_rule_measures_the_best_again_and_recommends_the_lowest_mean():
+    from ergohandover.study.measured_answers import confirmations, confirmed
+
+    cells = [10, 11, 12, 13, 14, 15, 16, 17, 18, 19]
+    scores = [5.0, 3.0, math.inf, 4.0, 3.0, 6.0, 7.0, 2.0, 9.0, 9.0]
+    assert confirmations(10) == 2 and confirmations(4) == 1
+    # At budget 10: 8 searched, the two lowest (2 at cell 17, then the first 3, at cell 11)
+    # measured again; the second answers change which is lower.
+    again = {17: 6.0, 11: 2.0}
+    asked = []
+
+    def measure(cell):
+        asked.append(cell)
+        return again[cell]
+
+    index, mean, spent = confirmed(cells, scores, 10, measure)
+    assert asked == [17, 11] and index == 1 and mean == 2.5 and spent == 10
+    index, _, spent = confirmed(cells, [math.inf] * 10, 10, measure)
+    assert index is None and spent == 8
+
+
+def test_a_rater_gives_whole_scores_whose_reliability_is_the_icc():
+    from ergohandover.search.measured import RatedScores, rater_sd
+
+    rng = np.random.default_rng(0)
+    values = rng.integers(2, 9, 400).astype(float)
+    values[:5] = np.inf
+    grid = Grid(Boundary((0, 0.19), (0, 0.09), (0, 0.01)), 0.01)  # 20 x 10 x 2 = 400 cells
+    assert grid.size == values.size
+    for icc in (0.89, 0.51):
+        rater = RatedScores(grid, values, rater_sd(values, icc), np.random.default_rng(1))
+        first = np.array([rater.score(c) for c in range(400)])
+        second = np.array([rater.score(c) for c in range(400)])
+        assert np.isinf(first[:5]).all() and (first[5:] % 1 == 0).all() and first.min() >= 1
+        a, b = first[5:], second[5:]
+        # The one-way ICC of two ratings of each posture: near the published one (rounding
+        # adds a little error of its own).
+        within = ((a - b) ** 2).mean() / 2
+        between = np.concatenate([a, b]).var()
+        assert abs((between - within) / between - icc) < 0.08
+    with pytest.raises(ConfigError, match=r"icc = 0\.0 is outside"):
+        rater_sd(values, 0.0)
+    with pytest.raises(ConfigError, match=r"rater ICC = 1\.5 is outside"):
+        from ergohandover.study.measured_answers import Answers
+        Answers("rater", 1.5)
+
+
+def test_with_a_prior_bayesian_optimisation_starts_from_the_priors_design():
+    from ergohandover.search.optuna_searchers import PRIOR_DESIGN
+    from ergohandover.search.prior import Prior
+
+    grid = Grid(Boundary((-0.3, 0.3), (0.8, 1.4), (0.2, 0.6)), 0.02)
+    prior = Prior((0.0, 1.1, 0.4), (0.03, 0.03, 0.03))
+    for name in ("bo+prior", "tpe+prior"):
+        searcher = make(name, grid, 5, prior)
+        cells = []
+        for _ in range(PRIOR_DESIGN):
+            cell = searcher.ask()
+            cells.append(cell)
+            searcher.tell(cell, 5.0)
+        points = grid.coordinates(cells)
+        assert np.allclose(points[0], prior.location, atol=grid.step / 2 + 1e-9)
+        assert len(set(cells)) == PRIOR_DESIGN
+        # Drawn from the prior: within a few SDs of it, not anywhere on the grid.
+        assert (np.abs(points - prior.location) <= 4 * 0.03 + grid.step).all()

@@ -64,6 +64,8 @@ class ScoreSource(ABC):
 
     grid: Grid
     objective: str
+    answers: str = "scores"
+    """What it answers: scores, or ``preferences`` (search/pairwise.py)."""
 
     @abstractmethod
     def score(self, flat: int) -> float:

@@ -1,4 +1,5 @@
-"""Scores as a site measures them: each handover's posture read with measurement error.
+"""Scores as a site measures them: each handover's posture read with measurement error, or
+its score given by a rater who is not perfectly consistent.
 
 In the field nobody reads the twin's exact score off a worker. Whoever watches a handover
 measures the posture (video, IMUs) to a few degrees and scores what they measured. Here a
@@ -11,6 +12,14 @@ scores exactly.
 The postures are solved when a cell is first asked for, in aligned cubes of ``block``³ cells
 (as :class:`~ergohandover.envs.scores.OnlineScores`), and kept. Measuring them is vectorised
 scoring of one posture.
+
+A rater watching the handover gives its score directly (:class:`RatedScores`): the worker's
+error-free score plus a Gaussian error, rounded to a whole score (a rater writes whole scores)
+and never below 1. The error's SD comes from the rater's intra-rater reliability: with the
+intraclass correlation ICC = V / (V + s²) of a rater scoring the same postures twice, where V
+is the spread of the scores being rated, s = √(V (1 − ICC) / ICC) (:func:`rater_sd`). Here V is
+the variance of the worker's own score over the feasible cells of the grid: the rater's error
+is as large, relative to the spread of what they rate, as in the reliability study.
 """
 
 from __future__ import annotations
@@ -26,6 +35,10 @@ from ..errors import ConfigError
 from ..landscape.grid import Grid
 from ..robustness.posture_error import ErrorModel, perturbed
 from ..twin.evaluate import Evaluator, evaluate_arrays
+
+RELIABILITY = {"expert": 0.89, "novice": 0.51}
+"""Intra-rater ICC of the final REBA score by a rater's expertise (Balogh et al. 2025, PLOS One
+20(5):e0323262, 21 videos rated twice; intervals 0.78-0.95 and 0.25-0.74)."""
 
 MEASURED = ("paper_postural", "reba", "reba_ab", "rula")
 """The objectives a measured posture gives (a landscape-only objective is not measured)."""
@@ -82,3 +95,42 @@ class MeasuredScores(ScoreSource):
         for i, c in enumerate(cells.tolist()):
             self._postures[c] = ({name: float(found[name][i]) for name in POSTURE_COLUMNS}
                                  if found["feasible"][i] else None)
+
+
+def rater_sd(values: np.ndarray, icc: float) -> float:
+    """The SD [score points] of a rater's error whose intraclass correlation over ``values``
+    (the scores being rated; ``inf``: infeasible, left out) is ``icc``; see the module."""
+    if not 0 < icc <= 1:
+        raise ConfigError(f"icc = {icc!r} is outside the valid range (0, 1]")
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if finite.size < 2:
+        raise ConfigError("a rater's error needs at least 2 feasible scores to scale to")
+    return float(np.sqrt(finite.var() * (1 - icc) / icc))
+
+
+class RatedScores(ScoreSource):
+    """The score a rater gives at each handover; see the module.
+
+    Args:
+        grid: the cells.
+        values: (grid.size,) the worker's error-free score (``inf``: infeasible).
+        sd: the rater's error [score points] (:func:`rater_sd`).
+        rng: the errors' generator.
+        objective: the score's name.
+    """
+
+    def __init__(self, grid: Grid, values: np.ndarray, sd: float, rng: np.random.Generator,
+                 objective: str = "paper_postural"):
+        if not (math.isfinite(sd) and sd >= 0):
+            raise ConfigError(f"rater sd = {sd!r} is outside the valid range (>= 0)")
+        self.grid, self.values, self.sd, self.rng = grid, np.asarray(values, float), sd, rng
+        self.objective = objective
+        self.measurements = 0
+
+    def score(self, flat: int) -> float:
+        self.measurements += 1
+        true = float(self.values[int(flat)])
+        if not math.isfinite(true):
+            return math.inf
+        return float(max(1.0, round(true + self.sd * self.rng.standard_normal())))

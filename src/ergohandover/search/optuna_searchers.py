@@ -22,8 +22,10 @@ ignores.
 sampler learns it proposed a known cell) and replaced by the nearest cell not yet evaluated,
 enqueued as the next trial: a practitioner would not repeat a handover.
 
-**Warm start**: with a prior, the prior's cell is the first trial (``study.enqueue_trial``); it
-counts towards the samplers' random start-up trials.
+**Warm start**: with a prior, the start-up design is the prior's: its cell, then
+``PRIOR_DESIGN - 1`` distinct cells drawn from it (``study.enqueue_trial``), and the sampler's
+model takes over after those ``PRIOR_DESIGN`` trials instead of after Optuna's 10 random ones.
+Without a prior, Optuna's defaults stand.
 """
 
 from __future__ import annotations
@@ -41,6 +43,8 @@ from .protocol import finite_or_inf
 
 AXES = ("x", "y", "z")
 CONSTRAINT = "infeasible"
+PRIOR_DESIGN = 5
+"""Start-up trials drawn from the worker's prior (with one)."""
 
 
 class OptunaSearcher(NewCellSearcher):
@@ -55,16 +59,36 @@ class OptunaSearcher(NewCellSearcher):
         self.distributions = {a: IntDistribution(0, int(n) - 1)
                               for a, n in zip(AXES, grid.shape, strict=True)}
         # The Optuna study: read it for the trials; drive the search with ask/tell only.
-        self.study = optuna.create_study(direction="minimize", sampler=self._sampler())
+        startup = None if prior is None else PRIOR_DESIGN
+        self.study = optuna.create_study(direction="minimize", sampler=self._sampler(startup))
         if prior is not None:
-            self._enqueue(prior_point(grid, prior)[0])
+            for index in self._prior_design(*prior_point(grid, prior)):
+                self._enqueue(index)
         self._trial = None
         self._worst: float | None = None  # the highest feasible score told so far
         self._waiting: list = []  # infeasible trials told before any feasible one
 
     @abstractmethod
-    def _sampler(self):
-        """The seeded Optuna sampler."""
+    def _sampler(self, startup: int | None):
+        """The seeded Optuna sampler (``startup``: its start-up trials; None: its default)."""
+
+    def _prior_design(self, centre: np.ndarray, sd: np.ndarray) -> list[np.ndarray]:
+        """The prior's cell, then distinct cells drawn from N(centre, SD) (index units; a
+        draw that lands on a chosen cell is drawn again, the spread growing by half each
+        time all of a batch do)."""
+        rng = np.random.default_rng([self.seed, PRIOR_DESIGN])
+        chosen = [np.clip(np.rint(centre), 0, self.shape - 1).astype(int)]
+        seen = {tuple(chosen[0])}
+        spread = 1.0
+        while len(chosen) < min(PRIOR_DESIGN, self.grid.size):
+            points = np.clip(np.rint(rng.normal(centre, sd * spread, (16, 3))), 0,
+                             self.shape - 1).astype(int)
+            for index in points:
+                if tuple(index) not in seen and len(chosen) < PRIOR_DESIGN:
+                    seen.add(tuple(index))
+                    chosen.append(index)
+            spread *= 1.5
+        return chosen
 
     def add_known(self, history: Sequence[tuple[int, float]]) -> None:
         """Answers obtained elsewhere (another session, a benchmark's history), added as
@@ -133,15 +157,17 @@ class OptunaSearcher(NewCellSearcher):
 
 class GPSearcher(OptunaSearcher):
     """Bayesian optimisation: Optuna's GPSampler (Matérn-5/2 GP with ARD, log expected
-    improvement, constrained by the feasibility GP), Optuna's defaults: 10 random start-up
-    trials, a noisy objective (a person's score is not deterministic)."""
+    improvement, constrained by the feasibility GP), Optuna's defaults (10 random start-up
+    trials without a prior), a noisy objective (a person's score is not deterministic)."""
 
     name = "bo"
 
-    def _sampler(self):
+    def _sampler(self, startup: int | None):
         from optuna.samplers import GPSampler
 
-        return GPSampler(seed=self.seed)
+        if startup is None:
+            return GPSampler(seed=self.seed)
+        return GPSampler(seed=self.seed, n_startup_trials=startup)
 
     def _ask_trial(self):
         # One core, as every run: BLAS and torch's OpenMP otherwise contend for the two
@@ -160,12 +186,14 @@ class GPSearcher(OptunaSearcher):
 
 class TPESearcher(OptunaSearcher):
     """Optuna's TPESampler with its defaults (multivariate for one objective, 10 random
-    start-up trials, 24 candidates per proposal); ``constant_liar`` off, as trials are
-    sequential."""
+    start-up trials without a prior, 24 candidates per proposal); ``constant_liar`` off, as
+    trials are sequential."""
 
     name = "tpe"
 
-    def _sampler(self):
+    def _sampler(self, startup: int | None):
         from optuna.samplers import TPESampler
 
-        return TPESampler(seed=self.seed, constant_liar=False)
+        if startup is None:
+            return TPESampler(seed=self.seed, constant_liar=False)
+        return TPESampler(seed=self.seed, constant_liar=False, n_startup_trials=startup)

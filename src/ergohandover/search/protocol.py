@@ -30,6 +30,7 @@ from contextlib import suppress
 from ..envs.scores import ScoreSource
 from ..errors import ConfigError
 from ..landscape.grid import Grid
+from .preferences import PreferenceScores
 from .prior import Prior
 from .record import Budget, Progress, Record, Tracker
 
@@ -131,6 +132,8 @@ class Searcher(ABC):
     """
 
     name: str = ""
+    answers: str = "scores"
+    """What it is told: ``scores``, or ``preferences`` (:mod:`.pairwise`)."""
     unit: str = "evaluations"
     """What its budget counts when it is given a number without a unit (``train --steps``)."""
 
@@ -182,11 +185,25 @@ def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
     """
     if budget.steps is not None or (budget.evaluations is None and searcher.unit == "steps"):
         return searcher.drive(scores, budget, progress)
+    if searcher.answers != getattr(scores, "answers", "scores"):
+        scores = told_as(searcher, scores, budget)
     evaluations = Evaluations(scores, budget, known, progress)
     info = {}
     with suppress(Spent):
         info = searcher.search(evaluations)
     return evaluations.record(searcher.name, info)
+
+
+def told_as(searcher: Searcher, scores: ScoreSource, budget: Budget) -> ScoreSource:
+    """``scores`` as a searcher told preferences hears them (:class:`~.pairwise.
+    PreferenceScores`); a stop at a score means nothing to it."""
+    if searcher.answers != "preferences":
+        raise ConfigError(f"searcher {searcher.name!r} is told scores, and the answers are "
+                          "preferences")
+    if budget.stop_score is not None or budget.stop_cells is not None:
+        raise ConfigError(f"searcher {searcher.name!r} is told preferences: it cannot stop at "
+                          "a score (give it a budget of evaluations)")
+    return PreferenceScores(scores)
 
 
 def replay(searcher: AskTellSearcher, history: Sequence[tuple[int, float]]) -> AskTellSearcher:

@@ -28,6 +28,7 @@ from .protocol import Searcher
 
 KINDS = ("learner", "walk", "searcher")
 PRIORS = ("none", "optional", "needs")
+ANSWERS = ("scores", "preferences")
 
 
 @dataclass(frozen=True)
@@ -48,6 +49,8 @@ class Entry:
             ``actor`` (SAC: no rollout over the discrete moves) or ``random`` (the random walk's
             uniform moves); None for the others.
         variant_of: the entry this one is a variant of (``bo`` for ``bo+prior``), or None.
+        answers: what it is told: ``scores``, or ``preferences`` (which of the last two
+            handovers was better: :mod:`.pairwise`).
     """
 
     name: str
@@ -60,9 +63,10 @@ class Entry:
     observation: str = "indices"
     policy: str | None = None
     variant_of: str | None = None
+    answers: str = "scores"
 
     def __post_init__(self):
-        if self.kind not in KINDS or self.prior not in PRIORS:
+        if self.kind not in KINDS or self.prior not in PRIORS or self.answers not in ANSWERS:
             raise ConfigError(f"registry entry {self.name!r}: kind {self.kind!r} (use "
                               f"{', '.join(KINDS)}), prior {self.prior!r} (use "
                               f"{', '.join(PRIORS)})")
@@ -77,11 +81,12 @@ class Entry:
         return self.kind == "learner"
 
 
-def with_prior_variant(name: str, label: str, make: str) -> tuple[Entry, Entry]:
+def with_prior_variant(name: str, label: str, make: str,
+                       answers: str = "scores") -> tuple[Entry, Entry]:
     """An ask/tell searcher and its entry always warm-started by the worker's prior."""
-    return (Entry(name, label, "searcher", make, prior="optional"),
+    return (Entry(name, label, "searcher", make, prior="optional", answers=answers),
             Entry(f"{name}+prior", f"{label} + prior", "searcher", make, prior="needs",
-                  variant_of=name))
+                  variant_of=name, answers=answers))
 
 
 SEARCHERS: dict[str, Entry] = {e.name: e for e in (
@@ -104,13 +109,16 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
     *with_prior_variant("tpe", "TPE", ".optuna_searchers:TPESearcher"),
     *with_prior_variant("cmaes", "CMA-ES", ".cmaes_search:CMAESSearcher"),
     *with_prior_variant("pso", "particle swarm", ".pso:PSOSearcher"),
+    *with_prior_variant("pairwise", "pairwise preferences (GP)", ".pairwise:PairwiseSearcher",
+                        answers="preferences"),
 )}
 """Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
 adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk
 with the learner's moves and restarts, random draws (uniform, with replacement: one score read
 a step), hill-climbing with random restarts, and the ask/tell searchers: random order (uniform
 without replacement), the population prior alone, Bayesian optimisation (Optuna's GP sampler),
-TPE, CMA-ES and particle-swarm optimisation, each also warm-started (``+prior``)."""
+TPE, CMA-ES, particle-swarm optimisation and a preference GP told only which of the last two
+handovers was better, each also warm-started (``+prior``)."""
 LEARNERS = tuple(name for name, e in SEARCHERS.items() if e.learns)
 
 

@@ -31,6 +31,7 @@ from .config_measured import (
     capture_code_version,
     measured_data_version,
 )
+from .config_personalise import PersonaliseConfig
 from .typed_json import from_json, setting, short
 from .workforce import Workforce
 
@@ -210,53 +211,6 @@ class PopulationConfig:
     step: float = setting(0.01, positive=True, unit="m")
     bootstrap: int = setting(2000, lo=1)
     bootstrap_seed: int = setting(7, lo=0)
-
-
-PERSONALISE_SEARCHERS = ("random-order", "prior", "bo+prior", "tpe", "tpe+prior", "cmaes",
-                         "cmaes+prior", "pso", "pso+prior", "qlearning", "randomwalk", "sac")
-"""The personalisation study's searchers by default (``+prior``: warm-started by the worker's
-prior); Bayesian optimisation without the prior is in configs/personalise_full.json."""
-
-
-@dataclasses.dataclass(frozen=True)
-class PersonaliseConfig:
-    """How many handovers each searcher needs to find one worker's optimum: the population's
-    first ``workers`` workers, ``runs`` paired runs each, stopped at the optimum or at the
-    largest budget (``budget_caps``: a lower largest budget for a searcher whose proposals cost
-    seconds each, measured by experiments/bench_searchers.py)."""
-
-    workers: int = setting(30, lo=1)
-    runs: int = setting(10, lo=1)
-    seed: int = setting(28, lo=0)
-    objective: str = setting("paper_postural", choices=OBJECTIVES)
-    searchers: tuple[str, ...] = setting(PERSONALISE_SEARCHERS, choices=SEARCHERS)
-    budgets: tuple[int, ...] = setting((10, 25, 50, 100, 250, 1000), lo=1)
-    # Bayesian optimisation's proposals cost most (the GP's refit and acquisition search grow
-    # with the trials), then TPE's and SAC's (a gradient step per env step):
-    # experiments/bench_searchers.py measures them. The default study caps them so that it
-    # stays within 45 minutes on 2 cores, and configs/personalise_full.json runs them further
-    # (and Bayesian optimisation without the prior).
-    budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
-                                           "sac": 100}, lo=1)
-    # Answers measured with error (study/measured_answers.py): equal budgets, no stop rule,
-    # the recommendation's true regret; Bayesian optimisation's cost sets its largest budget.
-    measured_searchers: tuple[str, ...] = setting(
-        ("random-order", "prior", "bo+prior", "tpe+prior", "cmaes+prior", "pso+prior"),
-        choices=SEARCHERS)
-    measured_sds: tuple[float, ...] = setting((0.0, 5.0), lo=0, unit="deg")
-    measured_budgets: tuple[int, ...] = setting((5, 10, 15, 25), lo=1)
-    measured_runs: int = setting(5, lo=0)
-
-    def __post_init__(self):
-        for name in self.budget_caps:
-            if name not in SEARCHERS:
-                raise ConfigError(f"personalise.budget_caps: {name!r} names no searcher (use "
-                                  f"{', '.join(SEARCHERS)})")
-
-    def budgets_of(self, searcher: str) -> list[int]:
-        """The budgets a searcher is reported at: those up to its cap."""
-        cap = self.budget_caps.get(searcher, max(self.budgets))
-        return [b for b in sorted(self.budgets) if b <= cap]
 
 
 @dataclasses.dataclass(frozen=True)

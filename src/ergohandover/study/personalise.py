@@ -84,14 +84,18 @@ def prepare_values(worker: str, objective: str, landscape) -> np.ndarray:
     return _VALUES[key]
 
 
-def values_of(job: PersonaliseJob) -> np.ndarray:
-    """The job's worker's objective: the parent's (:func:`prepare_values`), or read through
-    the landscape door in a process that has none."""
-    found = _VALUES.get(values_key(job.worker, job.objective, job.grid))
+def values_for(worker: str, evaluator: Evaluator, grid: Grid, objective: str) -> np.ndarray:
+    """A worker's objective at every cell: the parent's (:func:`prepare_values`), or read
+    through the landscape door in a process that has none."""
+    found = _VALUES.get(values_key(worker, objective, grid))
     if found is not None:
         return found
-    return prepare_values(job.worker, job.objective,
-                          landscape_of(job.evaluator, job.grid, progress=False))
+    return prepare_values(worker, objective, landscape_of(evaluator, grid, progress=False))
+
+
+def values_of(job: PersonaliseJob) -> np.ndarray:
+    """The job's worker's objective (:func:`values_for`)."""
+    return values_for(job.worker, job.evaluator, job.grid, job.objective)
 
 
 def search_once(job: PersonaliseJob, values: np.ndarray, seed: int) -> Record:

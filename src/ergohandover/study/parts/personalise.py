@@ -19,12 +19,13 @@ Writes results/personalise/:
                 of runs that reached the target (95 % interval: bootstrap over workers, at
                 least Wilson's), median evaluations to the optimum and to within one point
   curves.csv    share of runs at the target within n evaluations, per searcher
-  measured_runs.csv     answers measured with error (study/measured_answers.py): per worker,
-                        searcher, error SD, run and budget, the recommendation (the lowest
-                        measured score's location) and its true regret
-  measured_summary.csv  per searcher, error SD and budget: the share of runs whose
-                        recommendation is a true optimum and the mean true regret, with
-                        intervals over workers
+  measured_runs.csv     answers as a site gets them (study/measured_answers.py): per worker
+                        and twin (in model, or a sensitivity variant), searcher, answer model,
+                        recommendation rule, run and budget, the recommendation and its true
+                        regret
+  measured_summary.csv  per model (in, out), searcher, answer model, rule and budget: the
+                        share of runs whose recommendation is a true optimum and the mean true
+                        regret, with intervals over workers
   manifest.json
 """
 
@@ -42,7 +43,14 @@ from ...landscape import Landscape
 from ...twin.evaluate import Evaluator
 from ..config import StudyConfig
 from ..engines import Engine
-from ..measured_answers import MeasuredJob, measured_summary, run_measured_job
+from ..measured_answers import (
+    IN_MODEL,
+    MeasuredJob,
+    answer_models,
+    measured_summary,
+    run_measured_job,
+    truth_key,
+)
 from ..personalise import (
     PersonaliseJob,
     leave_one_out_priors,
@@ -53,6 +61,7 @@ from ..personalise import (
     summary,
 )
 from ..resume import run_part
+from ..sensitivity import variants
 from ..workforce import bodies
 from . import population as population_part
 from .population import workforce_of
@@ -140,29 +149,51 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
 
 def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid, priors: dict,
                     engine: Engine) -> dict[str, pd.DataFrame]:
-    """The runs with answers measured with error, and their summary (none if the
-    configuration asks for none)."""
-    if not (part.measured_runs and part.measured_sds and part.measured_searchers):
+    """The runs with answers as a site gets them, in and out of model, and their summary (none
+    if the configuration asks for none)."""
+    models = answer_models(part.measured_sds, part.measured_iccs)
+    if not (part.measured_runs and models and part.measured_searchers):
         return {}
+    twins = [(w, IN_MODEL, e) for w, e in zip(chosen["worker"], evaluators, strict=True)]
+    twins += out_of_model(part, chosen, evaluators, grid, engine)
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
-    jobs = [MeasuredJob(w, e, grid, part.objective, s, sd, part.measured_budgets,
+    jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
+                        tuple(part.budgets_of(s, measured=True)),
                         run_seeds(part.seed, w, part.measured_runs), priors[w])
-            for s in searchers for sd in part.measured_sds
-            for w, e in zip(chosen["worker"], evaluators, strict=True)]
-    print(f"  measured answers: {len(part.measured_searchers)} searchers x "
-          f"{len(part.measured_sds)} error SDs x {len(chosen)} workers x {part.measured_runs} "
-          f"runs, {max(part.measured_budgets)} handovers each")
-    rows = [row for found in run_jobs(engine, run_measured_job, jobs, "measured answers")
+            for s in searchers for answers in models for w, twin, e in twins]
+    print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
+          f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
+          f"{part.measured_runs} runs, up to {max(part.measured_budgets)} handovers each")
+    rows = [row for found in run_jobs(engine, run_measured_job, jobs, "answers with error")
             for row in found]
     order = {s: i for i, s in enumerate(part.measured_searchers)}
-    worker_order = {w: i for i, w in enumerate(chosen["worker"])}
-    runs = pd.DataFrame(rows).sort_values(
-        ["searcher", "sd_deg", "worker", "run", "budget"], kind="stable", ignore_index=True,
+    answer_order = {a.label: i for i, a in enumerate(models)}
+    twin_order = {(w, t): i for i, (w, t, _) in enumerate(twins)}
+    runs = pd.DataFrame(rows)
+    runs["_twin"] = [twin_order[k] for k in zip(runs["worker"], runs["twin"], strict=True)]
+    runs = runs.sort_values(
+        ["searcher", "answers", "_twin", "run", "budget"], kind="stable", ignore_index=True,
         key=lambda c: c.map(order) if c.name == "searcher" else
-        c.map(worker_order) if c.name == "worker" else c)
+        c.map(answer_order) if c.name == "answers" else c).drop(columns="_twin")
     seed = int(np.random.SeedSequence([part.seed, 1]).generate_state(1)[0])
     return {"measured_runs": runs, "measured_summary": measured_summary(runs, seed)}
+
+
+def out_of_model(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
+                 engine: Engine) -> list[tuple[str, str, Evaluator]]:
+    """The first workers with each sensitivity variant's twin, their landscapes swept (or read
+    from the cache) and their scores kept for the pool's workers."""
+    named = {v.name: v for v in variants(evaluators[0])}
+    twins = [(w, name, named[name].evaluator(e)) for name in part.measured_variants
+             for w, e in zip(chosen["worker"][:part.measured_variant_workers],
+                             evaluators, strict=False)]
+    if twins:
+        print(f"  out of model: {len(twins)} twins ({', '.join(part.measured_variants)})")
+        for (w, name, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
+                                           strict=True):
+            prepare_values(truth_key(w, name), part.objective, landscape)
+    return twins
 
 
 def earlier_seconds(folder: Path) -> dict[str, float]:

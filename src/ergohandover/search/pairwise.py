@@ -1,0 +1,159 @@
+"""Preferences instead of scores: a searcher told only which of the last two handovers was
+better.
+
+A worker, or whoever watches, often cannot give a reliable number, but can say which of two
+handovers felt better. Here every handover after the first is compared with the one before it
+(the last feasible one): the answer is :data:`BETTER` (this one was better), :data:`WORSE` or
+:data:`SAME`, or ``inf`` when the worker could not take the box. A score source answers so
+through :class:`PreferenceScores` (the lower of the two answers it would have given is
+preferred, so a preference is flipped exactly as often as the scores' own error reverses their
+order: more often the closer the two scores are; equal answers are :data:`SAME`), and a person
+answers so in ``ergohandover personalise --answers pairwise``.
+
+:class:`PairwiseSearcher` keeps a Gaussian-process model of how good each location is, fitted
+to the comparisons by Laplace's approximation of the probit preference likelihood (Chu and
+Ghahramani, ICML 2005): P(a preferred to b) = Φ((f(a) − f(b)) / (√2 σ)), an answer
+:data:`SAME` counting as half a preference each way, and a handover the worker could not take
+as one the handover before it is preferred to. It proposes by Thompson sampling (as CoSpar,
+Tucker et al. ICRA 2020): one draw of the model over candidate cells — drawn around the
+worker's prior and around the most preferred location so far — and the best of the draw, never
+a cell twice. Its recommendation is the location it has seen with the highest posterior mean
+(:func:`preferred`). The kernel's length scale and the preference noise are fixed
+(:data:`LENGTH_M`, :data:`NOISE`), not fitted: a few comparisons cannot fit them; they were
+chosen among six pairs on population workers outside the personalisation study's
+(``experiments/tools/tune_pairwise.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.special import log_ndtr
+
+from ..landscape.grid import Grid
+from .cells import NewCellSearcher, prior_point
+from .preferences import BETTER, SAME, WORSE, PreferenceScores, comparisons
+from .prior import Prior
+
+__all__ = ["BETTER", "SAME", "WORSE", "PairwiseSearcher", "PreferenceModel", "PreferenceScores",
+           "comparisons", "preferred"]
+
+LENGTH_M = 0.03
+"""The kernel's length scale [m]: how far apart two locations still feel alike."""
+NOISE = 1.0
+"""σ of the probit preference likelihood, in units of the model's prior SD (1)."""
+CANDIDATES = 128
+"""Candidate cells drawn around the prior and around the most preferred location each."""
+NEWTON_STEPS = 30
+
+
+def kernel(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Squared-exponential covariance of points (n, 3) and (m, 3) [m]."""
+    d2 = ((a[:, None, :] - b[None, :, :]) ** 2).sum(axis=2)
+    return np.exp(-d2 / (2 * LENGTH_M ** 2))
+
+
+class PreferenceModel:
+    """The Laplace posterior of the goodness f at ``points`` given the ``pairs``; see the
+    module."""
+
+    def __init__(self, points: np.ndarray, pairs: list[tuple[int, int, float]]):
+        self.points = np.asarray(points, float)
+        n = len(self.points)
+        self.K = kernel(self.points, self.points) + 1e-6 * np.eye(n)
+        winners = np.array([p[0] for p in pairs], dtype=int)
+        losers = np.array([p[1] for p in pairs], dtype=int)
+        weights = np.array([p[2] for p in pairs], dtype=float)
+        scale = math.sqrt(2) * NOISE
+        f = np.zeros(n)
+        D = np.zeros((len(pairs), n))  # each pair's (winner - loser) difference operator
+        D[np.arange(len(pairs)), winners] = 1.0
+        D[np.arange(len(pairs)), losers] -= 1.0
+        for _ in range(NEWTON_STEPS):
+            z = D @ f / scale
+            ratio = np.exp(-0.5 * z ** 2 - 0.5 * math.log(2 * math.pi) - log_ndtr(z))
+            grad = D.T @ (weights * ratio) / scale
+            W = D.T @ (D * (weights * ratio * (z + ratio))[:, None]) / scale ** 2
+            new = self.K @ np.linalg.solve(np.eye(n) + W @ self.K, W @ f + grad)
+            if np.abs(new - f).max() < 1e-8:
+                f = new
+                break
+            f = new
+        self.f, self.W = f, W if pairs else np.zeros((n, n))
+        self.alpha = np.linalg.solve(self.K, f)
+
+    def posterior(self, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mean (m,) and covariance (m, m) of f at points ``at`` (m, 3)."""
+        Ks = kernel(self.points, at)
+        mean = Ks.T @ self.alpha
+        n = len(self.points)
+        cov = kernel(at, at) - Ks.T @ self.W @ np.linalg.solve(np.eye(n) + self.K @ self.W, Ks)
+        return mean, cov
+
+
+def preferred(grid: Grid, cells: Sequence[int], answers: Sequence[float]) -> int | None:
+    """The index (into ``cells``) of the feasible handover with the highest posterior mean
+    goodness (the first of equals); the first feasible one before any comparison; None if
+    none was feasible."""
+    feasible = [i for i, a in enumerate(answers) if math.isfinite(a)]
+    if not feasible:
+        return None
+    pairs = comparisons(answers)
+    if not pairs:
+        return feasible[0]
+    model = PreferenceModel(grid.coordinates(list(cells)), pairs)
+    return feasible[int(np.argmax(model.f[feasible]))]
+
+
+class PairwiseSearcher(NewCellSearcher):
+    """Thompson sampling from a preference GP; see the module."""
+
+    name = "pairwise"
+    answers = "preferences"
+
+    def __init__(self, grid: Grid, seed: int, prior: Prior | None = None):
+        super().__init__(grid, seed, prior)
+        self._rng = np.random.default_rng(self.seed)
+        self.cells: list[int] = []
+        self.answers_told: list[float] = []
+        if prior is None:
+            self._centre, self._sd = (self.shape - 1) / 2, self.shape / 4
+        else:
+            self._centre, self._sd = prior_point(grid, prior)
+            self._sd = np.maximum(self._sd, 1.0)
+
+    def recommend(self) -> int | None:
+        """The cell it would recommend now (:func:`preferred`)."""
+        best = preferred(self.grid, self.cells, self.answers_told)
+        return None if best is None else self.cells[best]
+
+    def _propose(self) -> int:
+        if not self.cells:
+            first = (self.snap(self._centre) if self.prior is not None
+                     else int(self._rng.integers(self.grid.size)))
+            return first
+        best = self.recommend()
+        around = self.index(best) if best is not None else self._centre
+        points = np.concatenate([
+            self._rng.normal(self._centre, self._sd, (CANDIDATES, 3)),
+            self._rng.normal(around, np.maximum(self._sd / 2, 1.0), (CANDIDATES, 3))])
+        index = np.clip(np.rint(points), 0, self.shape - 1).astype(int)
+        cells = np.unique(np.ravel_multi_index(tuple(index.T), self.grid.shape))
+        cells = np.array([c for c in cells.tolist() if c not in self.told], dtype=int)
+        if cells.size == 0:
+            return self.nearest_new(self.index(self.cells[-1]))
+        pairs = comparisons(self.answers_told)
+        if not pairs:
+            return int(self._rng.choice(cells))
+        model = PreferenceModel(self.grid.coordinates(self.cells), pairs)
+        mean, cov = model.posterior(self.grid.coordinates(cells))
+        values, vectors = np.linalg.eigh((cov + cov.T) / 2)
+        draw = mean + vectors @ (np.sqrt(np.clip(values, 0, None))
+                                 * self._rng.standard_normal(len(cells)))
+        return int(cells[int(np.argmax(draw))])
+
+    def _learn(self, cell: int, score: float) -> None:
+        self.cells.append(cell)
+        self.answers_told.append(score)
