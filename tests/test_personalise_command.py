@@ -205,7 +205,7 @@ def test_the_target_ends_the_session_at_the_first_score_at_or_below_it(tmp_path,
 def test_answers_in_a_file_are_matched_to_their_trials(tmp_path, capsys):
     answers = tmp_path / "answers.csv"
     answers.write_text("trial,answer\n# the ergonomist's sheet\n1,6\n2,abc\n2,5\n4,3\n3,x\n")
-    assert main(["personalise", "--oracle", "file", "--answers", str(answers), "--searcher",
+    assert main(["personalise", "--oracle", "file", "--answer-file", str(answers), "--searcher",
                  "random-order", *WORKER, "--trials", "4", "--output", str(tmp_path / "f")]) == 0
     out, err = capsys.readouterr()
     assert "refused: 'abc' is not an answer" in err
@@ -219,7 +219,7 @@ def test_the_file_oracle_waits_for_the_line_of_the_proposed_trial(tmp_path):
     answers, out = tmp_path / "answers.csv", tmp_path / "f"
     proposal = out / command.PROPOSAL
     run_ = subprocess.Popen([sys.executable, "-m", "ergohandover.cli", "personalise", "--oracle",
-                             "file", "--answers", str(answers), "--poll", "0.05", "--searcher",
+                             "file", "--answer-file", str(answers), "--poll", "0.05", "--searcher",
                              "random-order", *WORKER, "--trials", "3", "--output", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
@@ -358,9 +358,18 @@ def test_a_repeated_proposal_is_told_the_known_answer_and_costs_no_trial(tmp_pat
 
 BAD = [
     (["--oracle", "maybe"], "--oracle maybe: not one of twin, ask, file"),
-    (["--oracle", "file", *WORKER], "--oracle file needs --answers CSV"),
+    (["--oracle", "file", *WORKER], "--oracle file needs --answer-file CSV"),
     (["--oracle", "ask", "--poll", "2", *WORKER], "--poll cannot be used with --oracle ask"),
-    (["--oracle", "twin", "--answers", "a.csv"], "--answers cannot be used with --oracle twin"),
+    (["--oracle", "twin", "--answer-file", "a.csv"],
+     "--answer-file cannot be used with --oracle twin"),
+    (["--oracle", "twin", "--answers", "pairwise", "--searcher", "prior"],
+     "--answers pairwise: --searcher prior is told scores"),
+    (["--oracle", "twin", "--searcher", "pairwise", "--answers", "scores"],
+     "--answers scores: --searcher pairwise is told preferences"),
+    (["--oracle", "twin", "--answers", "pairwise", "--target", "4"],
+     "--target cannot be used with --answers pairwise"),
+    (["--oracle", "ask", "--answers", "pairwise", "--answer-format", "keypoints:coco17",
+      *WORKER], "--answer-format cannot be used with --answers pairwise"),
     (["--oracle", "ask"], "--oracle ask needs the worker: give --stature M and --sex"),
     (["--oracle", "twin", "--trials", "0"], "--trials 0: must be >= 1"),
     (["--oracle", "twin", "--trials", "101", *SMALL],
@@ -416,9 +425,9 @@ def test_a_state_of_other_settings_or_no_state_at_all_is_refused(tmp_path, capsy
 def test_the_help_lists_every_flag_and_the_defaults_are_the_studys():
     parser = build_parser().commands["personalise"]
     text = parser.format_help()
-    for flag in ("--oracle", "--answers", "--poll", "--searcher", "--no-prior", "--trials",
-                 "--target", "--seed", "--objective", "--boundary", "--step", "--stature",
-                 "--sex", "--state", "--output"):
+    for flag in ("--oracle", "--answers", "--answer-file", "--poll", "--searcher", "--no-prior",
+                 "--trials", "--target", "--seed", "--objective", "--boundary", "--step",
+                 "--stature", "--sex", "--state", "--output"):
         assert flag in text, flag
     assert f"exit code {command.PAUSED}" in text and "docs/personalise.md" in text
     population = PopulationConfig()

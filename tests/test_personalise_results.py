@@ -104,23 +104,34 @@ def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
     assert not any(tmp_path.iterdir())
 
 
-def test_the_measured_answers_cover_every_searcher_error_and_budget_and_sum_up():
+def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin():
     from ergohandover.study.config import StudyConfig
+    from ergohandover.study.measured_answers import answer_models
 
     part = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ()).personalise
     runs, summary = read("measured_runs.csv"), read("measured_summary.csv")
-    keys = {(s, float(sd), b) for s in part.measured_searchers for sd in part.measured_sds
-            for b in part.measured_budgets}
-    assert set(zip(summary["searcher"], summary["sd_deg"], summary["budget"], strict=True)) \
-        == keys
-    assert (summary["n_workers"] == part.workers).all()
-    assert (summary["n_runs"] == part.workers * part.measured_runs).all()
+    labels = {a.label for a in answer_models(part.measured_sds, part.measured_iccs)}
+    assert len(labels) >= 6 and {"exact", "posture SD 10 deg", "rater ICC 0.51"} <= labels
+    rules = {s: (["preferred"] if s.startswith("pairwise") else ["lowest", "confirm"])
+             for s in part.measured_searchers}
+    keys = {(m, s, a, r, b) for m in ("in-model", "out-of-model") for s in part.measured_searchers
+            for a in labels for r in rules[s] for b in part.budgets_of(s, measured=True)}
+    assert set(zip(summary["model"], summary["searcher"], summary["answers"], summary["rule"],
+                   summary["budget"], strict=True)) == keys
+    inside = summary["model"] == "in-model"
+    assert (summary.loc[inside, "n_workers"] == part.workers).all()
+    outside = part.measured_variant_workers * len(part.measured_variants)
+    assert (summary.loc[~inside, "n_workers"] == outside).all() and outside >= 15
+    assert set(runs["twin"]) == {"in-model", *part.measured_variants}
     assert (runs["regret"] >= 0).all() and (runs["handovers"] <= runs["budget"]).all()
-    # Without error what was measured is the truth.
-    exact = runs[runs["sd_deg"] == 0]
-    assert (exact["measured_score"] == exact["true_score"]).all()
+    # Exact answers are the truth; a true score is the worker's (or changed twin's) own.
+    exact = runs[(runs["answers"] == "exact") & (runs["rule"] == "lowest")]
+    assert (exact["answer"] == exact["true_score"]).all()
+    assert (runs.groupby(["worker", "twin"])["optimum_score"].nunique() == 1).all()
+    runs = runs.assign(model=np.where(runs["twin"] == "in-model", "in-model", "out-of-model"))
     shares = runs.assign(zero=runs["regret"] == 0).groupby(
-        ["searcher", "sd_deg", "budget"], sort=False)["zero"].mean()
+        ["model", "searcher", "answers", "rule", "budget"], sort=False)["zero"].mean()
     for row in summary.itertuples():
-        assert row.p_regret_0 == pytest.approx(shares[(row.searcher, row.sd_deg, row.budget)])
+        key = (row.model, row.searcher, row.answers, row.rule, row.budget)
+        assert row.p_regret_0 == pytest.approx(shares[key])
         assert row.ci_low <= row.p_regret_0 <= row.ci_high

@@ -17,7 +17,8 @@ from ergohandover.search.registry import SEARCHERS
 NAMES = {"random-order": "random order", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
          "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
-         "randomwalk": "a random walk", "sac": "Soft Actor-Critic"}
+         "randomwalk": "a random walk", "sac": "Soft Actor-Critic",
+         "pairwise": "pairwise preferences (GP)"}
 
 
 def label(searcher: str) -> str:
@@ -93,13 +94,13 @@ def answer(summary: pd.DataFrame) -> str:
     return "; ".join(parts) + "."
 
 
-def headline(summary: pd.DataFrame) -> str:
-    """The README's row: the best searcher's median handovers to a worker's own optimum beside
-    random order's, the paper's learner's and Bayesian optimisation's."""
+def ceiling(summary: pd.DataFrame) -> str:
+    """The exact-answer comparison in a sentence: the best searcher's median handovers to a
+    worker's own optimum beside random order's, the paper's learner's and Bayesian
+    optimisation's."""
     ranked = ranking(summary).set_index("searcher")
     best, first = ranked.index[0], ranked.iloc[0]
-    text = (f"on {int(first['n_workers'])} sampled workers, {label(best)} reaches the "
-            f"worker's own optimum in a median of "
+    text = (f"{label(best)} reaches the worker's own optimum in a median of "
             f"{evals(first['median_evals_to_optimum'], first['budget'])} handovers")
     others = [f"{label(o)} {evals(row['median_evals_to_optimum'], row['budget'])}"
               for o in ("random-order", "qlearning", "bo+prior", "sac")
@@ -107,38 +108,115 @@ def headline(summary: pd.DataFrame) -> str:
     return text + (f" ({', '.join(others)})" if others else "")
 
 
+HEADLINE_ANSWERS = "posture SD 5 deg"
+"""The answers the headline quotes: the posture measured with the robustness part's 5° error."""
+
+
+def equal_budget(measured: pd.DataFrame) -> int:
+    """The largest budget every searcher was run to (a costly searcher's cap sets it)."""
+    return int(measured.groupby("searcher")["budget"].max().min())
+
+
+def share(row) -> str:
+    return f"{row['p_regret_0']:.0%} ({row['ci_low']:.0%}–{row['ci_high']:.0%})"
+
+
+def rule_label(searcher: str, rule: str) -> str:
+    said = {"lowest": "", "confirm": ", measuring the best again",
+            "preferred": ""}[rule]
+    return label(searcher) + said
+
+
+def best_measured(measured: pd.DataFrame, model: str, answers: str,
+                  budget: int) -> pd.Series:
+    """The searcher and rule whose recommendation is most often a true optimum (then the
+    lowest mean regret) for one model, answer model and budget."""
+    rows = measured[(measured["model"] == model) & (measured["answers"] == answers)
+                    & (measured["budget"] == budget)]
+    return rows.sort_values(["p_regret_0", "mean_regret"], ascending=[False, True],
+                            kind="stable").iloc[0]
+
+
+def at(measured: pd.DataFrame, model: str, answers: str, searcher: str, rule: str,
+       budget: int) -> pd.Series:
+    return measured[(measured["model"] == model) & (measured["answers"] == answers)
+                    & (measured["searcher"] == searcher) & (measured["rule"] == rule)
+                    & (measured["budget"] == budget)].iloc[0]
+
+
+def headline(summary: pd.DataFrame, measured: pd.DataFrame | None = None) -> str:
+    """The README's row: with answers as a site gets them, at an equal budget, in and out of
+    model (the exact-answer figures are the report's ceiling); the ceiling alone without
+    measured answers."""
+    if measured is None:
+        first = ranking(summary).iloc[0]
+        return f"on {int(first['n_workers'])} sampled workers, {ceiling(summary)}"
+    budget = equal_budget(measured)
+    best = best_measured(measured, "in-model", HEADLINE_ANSWERS, budget)
+    searcher, rule = best["searcher"], best["rule"]
+    exact = at(measured, "in-model", "exact", searcher, rule, budget)
+    out = at(measured, "out-of-model", HEADLINE_ANSWERS, searcher, rule, budget)
+    novice = measured[measured["answers"].str.startswith("rater")]
+    rater = min(novice["answers"].unique(), key=lambda a: float(a.split()[-1]))
+    rated = at(measured, "in-model", rater, searcher, rule, budget)
+    random = at(measured, "in-model", HEADLINE_ANSWERS, "random-order", "lowest", budget)
+    return (f"with each handover's posture measured with 5° of error, after "
+            f"{budget} handovers {rule_label(searcher, rule)} recommends a worker's "
+            f"true optimum in {share(best)} of runs ({int(best['n_workers'])} workers; random "
+            f"order {random['p_regret_0']:.0%}); exact answers {exact['p_regret_0']:.0%}, a "
+            f"{rater.replace('rater ICC', 'rater of ICC')} {rated['p_regret_0']:.0%}, and "
+            f"{out['p_regret_0']:.0%} ({out['ci_low']:.0%}–{out['ci_high']:.0%}) for workers "
+            f"whose twin differs from the prior's ({int(out['n_workers'])})")
+
+
 def measured_table(measured: pd.DataFrame) -> list[str]:
-    """Per searcher and error SD: the share of runs whose recommendation is a true optimum
-    after each budget (95 % interval over workers), and the mean true regret at the largest."""
-    budgets = sorted(measured["budget"].unique())
-    largest = budgets[-1]
+    """Per model, searcher and rule: the share of runs whose recommendation after the equal
+    budget is a true optimum (95 % interval over workers) under each answer model."""
+    budget = equal_budget(measured)
+    answers = list(dict.fromkeys(measured["answers"]))
+    lines = [f"| workers | searcher | {' | '.join(answers)} |",
+             "|---|---|" + "---|" * len(answers)]
+    rows = measured[measured["budget"] == budget].sort_values(
+        "model", kind="stable", key=lambda c: c != "in-model")
+    for (model, searcher, rule), table in rows.groupby(["model", "searcher", "rule"],
+                                                        sort=False):
+        found = table.set_index("answers")
+        cells = [share(found.loc[a]) for a in answers]
+        lines.append(f"| {model} ({int(table['n_workers'].iloc[0])}) | "
+                     f"{rule_label(searcher, rule)} | {' | '.join(cells)} |")
+    return lines
+
+
+def measured_budgets(measured: pd.DataFrame, answers: str = HEADLINE_ANSWERS) -> list[str]:
+    """In model, under one answer model: the share at a true optimum after each budget and
+    the mean true regret at the headline budget, per searcher and rule."""
+    rows = measured[(measured["model"] == "in-model") & (measured["answers"] == answers)]
+    budgets, equal = sorted(rows["budget"].unique()), equal_budget(measured)
     head = " | ".join(f"after {b}" for b in budgets)
-    lines = [f"| searcher | error SD | recommendation a true optimum {head} | mean true "
-             f"regret after {largest} [points] |",
-             "|---|---|" + "---|" * len(budgets) + "---|"]
-    for (searcher, sd), table in measured.groupby(["searcher", "sd_deg"], sort=False):
-        rows = table.set_index("budget")
-        cells = [f"{rows.loc[b, 'p_regret_0']:.0%} ({rows.loc[b, 'ci_low']:.0%}–"
-                 f"{rows.loc[b, 'ci_high']:.0%})" for b in budgets]
-        last = rows.loc[largest]
-        lines.append(f"| {label(searcher)} | {sd:g}° | {' | '.join(cells)} | "
+    lines = [f"| searcher | a true optimum {head} | mean true regret after {equal} "
+             "[points] |", "|---|" + "---|" * len(budgets) + "---|"]
+    for (searcher, rule), table in rows.groupby(["searcher", "rule"], sort=False):
+        found = table.set_index("budget")
+        cells = [share(found.loc[b]) if b in found.index else "not run" for b in budgets]
+        last = found.loc[equal]
+        lines.append(f"| {rule_label(searcher, rule)} | {' | '.join(cells)} | "
                      f"{last['mean_regret']:.2f} ({last['regret_ci_low']:.2f}–"
                      f"{last['regret_ci_high']:.2f}) |")
-    first = measured.iloc[0]
-    lines += ["", f"{int(first['n_workers'])} workers, {int(first['n_runs'])} runs per "
-              "searcher, error SD and budget."]
     return lines
 
 
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/personalise/ only."""
     summary = _read(results, "summary.csv")
-    found = {"personalise-headline": headline(summary),
+    measured = (_read(results, "measured_summary.csv")
+                if (results / "personalise" / "measured_summary.csv").is_file() else None)
+    found = {"personalise-headline": headline(summary, measured),
              "personalise-answer": answer(summary),
              "personalise-table": "\n" + "\n".join(summary_table(summary)) + "\n"}
-    if (results / "personalise" / "measured_summary.csv").is_file():
-        measured = _read(results, "measured_summary.csv")
+    if measured is not None:
         found["personalise-measured"] = "\n" + "\n".join(measured_table(measured)) + "\n"
+        found["personalise-measured-budgets"] = ("\n" + "\n".join(measured_budgets(measured))
+                                                 + "\n")
     return found
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import sys
 import time
 from pathlib import Path
@@ -42,6 +43,9 @@ STEP: float = defaults.field_default(PopulationConfig, "step")
 """The personalisation study's grid: the population study's, on which every worker's optimum
 (and so the prior) was found."""
 ORACLES = ("twin", "ask", "file")
+ANSWER_KINDS = ("scores", "pairwise")
+PAIRWISE_SEARCHER = "pairwise"
+"""The searcher told preferences (search/pairwise.py)."""
 POLL_S = 1.0
 PAUSED = 3
 """The exit code of a session that paused before its end because standard input ended: every
@@ -55,16 +59,18 @@ Find one worker's own handover location in a few real handovers: a searcher prop
 the score observed there is its answer, and the next proposal uses every answer so far. The
 score is --objective's: with --oracle ask an ergonomist types it (or 'x' where the worker cannot
 take the box, or a Posture CSV row to score); --oracle file reads 'TRIAL,ANSWER' lines that
-another program appends to --answers; --oracle twin lets the worker's twin answer (a
-demonstration). The searcher starts from the worker's expected optimum (the population prior:
-stature and sex) unless --no-prior.
+another program appends to --answer-file; --oracle twin lets the worker's twin answer (a
+demonstration). With --answers pairwise nobody gives a score: each handover is called better,
+worse or same than the one before it. The searcher starts from the worker's expected optimum
+(the population prior: stature and sex) unless --no-prior.
 The state is saved after every answer (--state): a session stopped before its end resumes where
 it stopped when the same command is run again (with --output or --state; without them, the
 command names the folder to resume from). Standard input ending pauses it with exit code {PAUSED};
 Ctrl-C and kill stop it with 130 and 143, every answer kept.
-At the end: the recommended location (the lowest score observed, the earliest of equals), its
-score and the trials used; trials.csv, recommendation.csv and manifest.json are written into
---output (default: a new runs/personalise/<timestamp>/). See docs/personalise.md."""
+At the end: the recommended location (the lowest score observed, the earliest of equals; with
+pairwise answers, the one the preference model prefers), the trials used and why the session
+ended, and how sure the recommendation is; trials.csv, recommendation.csv and manifest.json are
+written into --output (default: a new runs/personalise/<timestamp>/). See docs/personalise.md."""
 
 
 def add_parser(subparsers) -> None:
@@ -77,7 +83,12 @@ def add_parser(subparsers) -> None:
     answers.add_argument("--oracle", required=True, type=choice(ORACLES),
                          metavar="|".join(ORACLES), help="who answers each proposal: the "
                          "worker's twin, a person at the terminal, or --answers")
-    answers.add_argument("--answers", type=output_file, metavar="CSV",
+    answers.add_argument("--answers", type=choice(ANSWER_KINDS), metavar="|".join(ANSWER_KINDS),
+                         help="what is answered: a score of each handover, or pairwise: which "
+                         "of the last two handovers was better (better, worse, same) (default: "
+                         "what --searcher is told; pairwise goes with --searcher pairwise, its "
+                         "default)")
+    answers.add_argument("--answer-file", type=output_file, metavar="CSV",
                          help="with --oracle file: the file of 'TRIAL,ANSWER' lines (it may not "
                          "exist yet); the pending proposal is written to proposal.csv in "
                          "--output")
@@ -89,13 +100,13 @@ def add_parser(subparsers) -> None:
                          "format's), scored as 'ergohandover score --keypoints' scores it")
     answers.add_argument("--poll", type=number(0, None, "s", above=True), default=POLL_S,
                          metavar="S", help="with --oracle file: seconds between looks at "
-                         f"--answers (default: {POLL_S:g})")
+                         f"--answer-file (default: {POLL_S:g})")
     search = parser.add_argument_group("search")
     names = registered_searchers()
-    search.add_argument("--searcher", type=choice(names), default=DEFAULT_SEARCHER,
-                        metavar="|".join(names), help="the ask/tell searcher "
-                        f"(default: {DEFAULT_SEARCHER}, the one that needed the fewest "
-                        "handovers in the personalisation study)")
+    search.add_argument("--searcher", type=choice(names), metavar="|".join(names),
+                        help="the ask/tell searcher (default: "
+                        f"{DEFAULT_SEARCHER}, the one that needed the fewest handovers in the "
+                        f"personalisation study; with --answers pairwise: {PAIRWISE_SEARCHER})")
     search.add_argument("--no-prior", action="store_true",
                         help="start without the population prior (default: start from it)")
     search.add_argument("--trials", type=whole(1), default=DEFAULT_TRIALS, metavar="N",
@@ -130,10 +141,28 @@ def add_parser(subparsers) -> None:
 
 
 def check(args: argparse.Namespace) -> None:
-    """What takes two flags: a one-line InputError naming them."""
+    """What takes two flags: a one-line InputError naming them (and the searcher and answers
+    each defaults to, from the other)."""
+    from ..search.registry import entry
+
     flags = given(args)
-    if args.oracle == "file" and args.answers is None:
-        raise InputError("--oracle file needs --answers CSV (the file answers are appended to)")
+    if args.oracle == "file" and args.answer_file is None:
+        raise InputError("--oracle file needs --answer-file CSV (the file answers are appended "
+                         "to)")
+    told = entry(args.searcher).answers if args.searcher else None
+    if args.answers is None:
+        args.answers = "pairwise" if told == "preferences" else "scores"
+    if args.searcher is None:
+        args.searcher = PAIRWISE_SEARCHER if args.answers == "pairwise" else DEFAULT_SEARCHER
+    if (args.answers == "pairwise") != (entry(args.searcher).answers == "preferences"):
+        raise InputError(f"--answers {args.answers}: --searcher {args.searcher} is told "
+                         f"{entry(args.searcher).answers} (with --answers pairwise use "
+                         f"--searcher {PAIRWISE_SEARCHER}; with scores, another searcher)")
+    if args.answers == "pairwise":
+        for flag, dest in (("--answer-format", "answer_format"), ("--target", "target")):
+            if dest in flags:
+                raise InputError(f"{flag} cannot be used with --answers pairwise (a preference "
+                                 "is neither a score nor a frame)")
     if "answer_format" in flags and args.oracle == "twin":
         raise InputError("--answer-format cannot be used with --oracle twin (only with --oracle "
                          "ask or file)")
@@ -145,12 +174,12 @@ def check(args: argparse.Namespace) -> None:
         except ConfigError as exc:
             raise InputError(str(exc).replace(f"answer_format = {args.answer_format!r}",
                                               f"--answer-format {args.answer_format}")) from None
-    for dest in ("answers", "poll"):
+    for flag, dest in (("--answer-file", "answer_file"), ("--poll", "poll")):
         if dest in flags and args.oracle != "file":
-            raise InputError(f"--{dest} cannot be used with --oracle {args.oracle} (only with "
+            raise InputError(f"{flag} cannot be used with --oracle {args.oracle} (only with "
                              "--oracle file)")
-    if args.answers == "-":
-        raise InputError("--answers -: not a file (with standard input, use --oracle ask)")
+    if args.answer_file == "-":
+        raise InputError("--answer-file -: not a file (with standard input, use --oracle ask)")
     if args.state == "-":
         raise InputError("--state -: not a file (the state is read back on resume)")
     described = {"stature", "sex"} <= flags or "percentile" in flags
@@ -220,13 +249,14 @@ def open_session(args, state: Path, settings: dict, searcher):
 
 
 def build_oracle(args, grid, evaluator, reader, output: Path):
-    from ..search.oracles import AskOracle, FileOracle, TwinOracle
+    from ..search.oracles import AskOracle, ComparingTwin, FileOracle, TwinOracle
 
     if args.oracle == "twin":
-        return TwinOracle(grid, evaluator, args.objective)
+        twin = ComparingTwin if args.answers == "pairwise" else TwinOracle
+        return twin(grid, evaluator, args.objective)
     if args.oracle == "ask":
         return AskOracle(reader)
-    return FileOracle(Path(args.answers), reader, args.poll, output / PROPOSAL)
+    return FileOracle(Path(args.answer_file), reader, args.poll, output / PROPOSAL)
 
 
 def resolve(args: argparse.Namespace):
@@ -255,11 +285,13 @@ def resolve(args: argparse.Namespace):
     settings = {"searcher": args.searcher, "seed": args.seed, "objective": args.objective,
                 "evaluator": dataclasses.asdict(evaluator), "grid": dataclasses.asdict(grid),
                 "prior": None if population is None else population.to_dict()}
+    if args.answers == "pairwise":  # (a session of scores keeps an earlier version's settings)
+        settings["answers"] = "pairwise"
     return evaluator, grid, prior, searcher, settings
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..search.answers import AnswerReader
+    from ..search.answers import AnswerReader, PreferenceReader
     from ..search.oracles import AnswersEnded
     from ..search.session import run as run_session
 
@@ -272,10 +304,11 @@ def run(args: argparse.Namespace) -> int:
         state = output / STATE
     session = open_session(args, state, settings, searcher)
     task = evaluator.task
-    reader = AnswerReader(args.objective, evaluator.scoring, session.posture_header,
-                          None if args.answer_format == "score" else args.answer_format,
-                          {"load_kg": task.box_mass_kg, "coupling": float(task.coupling),
-                           "activity": float(task.activity)})
+    reader = PreferenceReader() if args.answers == "pairwise" else AnswerReader(
+        args.objective, evaluator.scoring, session.posture_header,
+        None if args.answer_format == "score" else args.answer_format,
+        {"load_kg": task.box_mass_kg, "coupling": float(task.coupling),
+         "activity": float(task.activity)})
     oracle = build_oracle(args, grid, evaluator, reader, output)
     introduce(args, evaluator, grid, prior, session)
     resume = "the same command" + (f" with --output {output}" if new_folder else "")
@@ -292,10 +325,11 @@ def run(args: argparse.Namespace) -> int:
         tidy(output, session, new_folder)
         raise
     oracle.finish()
-    best = session.best()
-    report(args, session, best, stopped)
+    best = session.best(searcher)
+    sure = uncertainty(args, session, searcher, best)
+    report(args, session, best, stopped, sure)
     config = {**settings, "prior_location": None if prior is None else list(prior.location)}
-    for path in write_outputs(args, session, best, stopped, output, config, started):
+    for path in write_outputs(args, session, best, stopped, output, config, started, sure):
         print(f"wrote {path}", file=sys.stderr)
     return 0
 
@@ -337,35 +371,69 @@ def ending(args, session, stopped: str) -> str:
                    "searcher": ": the searcher proposed only known locations"}[stopped]
 
 
-def report(args, session, best, stopped: str) -> None:
-    """The recommendation on standard output."""
+def uncertainty(args, session, searcher, best) -> dict:
+    """How sure the recommendation is, from what was observed: with preferences, the model's
+    probability that it is the best of the feasible locations tried; with scores, how many of
+    them scored within one point of it (one answer is one measurement: any of them may be as
+    good)."""
+    if best is None:
+        return {}
+    feasible = [t for t in session.trials if math.isfinite(t.score)]
+    if args.answers == "pairwise":
+        return {"p_best_of_tried": searcher.confidence(), "feasible_tried": len(feasible)}
+    close = sum(1 for t in feasible if t is not best and t.score <= best.score + 1)
+    return {"within_1_of_it": close, "feasible_tried": len(feasible)}
+
+
+def report(args, session, best, stopped: str, sure: dict) -> None:
+    """The recommendation and how sure it is, on standard output."""
     from ..search.oracles import in_cm
 
     if best is None:
         print(f"no recommendation: the worker could take the box at none of the locations "
               f"tried; {ending(args, session, stopped)}", flush=True)
         return
+    if args.answers == "pairwise":
+        print(f"recommended: hand the box at {in_cm(best.location)}: the handover preferred "
+              f"most (trial {best.trial}); {ending(args, session, stopped)}", flush=True)
+        chance = sure["p_best_of_tried"]
+        said = ("no comparison was made" if chance is None else
+                f"the preference model gives it a {chance:.0%} chance of being the best of the "
+                f"{sure['feasible_tried']} feasible locations tried")
+        print(f"uncertainty: {said}", flush=True)
+        return
     print(f"recommended: hand the box at {in_cm(best.location)}: {args.objective} "
           f"{best.score:g}, observed at trial {best.trial}; {ending(args, session, stopped)}",
           flush=True)
+    close = sure["within_1_of_it"]
+    advice = ": one answer is one measurement, so measure the closest again" if close else ""
+    print(f"uncertainty: {close} of the {sure['feasible_tried'] - 1} other feasible locations "
+          f"tried scored within one point of it{advice}", flush=True)
 
 
 def write_outputs(args, session, best, stopped: str, output: Path, settings: dict,
-                  started: float) -> list[Path]:
+                  started: float, sure: dict) -> list[Path]:
     """trials.csv, recommendation.csv (when a location was feasible) and manifest.json (with
-    ``settings``)."""
+    ``settings``). With preferences, a trial's score is empty: its answer says how it
+    compared."""
     import pandas as pd
 
     output.mkdir(parents=True, exist_ok=True)
-    paths = [atomic_write_csv(session.table(), output / "trials.csv")]
+    table = session.table()
+    pairwise = args.answers == "pairwise"
+    if pairwise:
+        table["score"] = None
+    paths = [atomic_write_csv(table, output / "trials.csv")]
     summary = {"trials_used": len(session.trials), "ended_by": stopped, "recommendation": None}
     if best is not None:
         x, y, z = best.location
-        row = {"x": x, "y": y, "z": z, "objective": args.objective, "score": best.score,
-               "trial": best.trial, "trials_used": len(session.trials)}
+        row = {"x": x, "y": y, "z": z, "objective": args.objective,
+               "score": None if pairwise else best.score, "trial": best.trial,
+               "trials_used": len(session.trials), "answers": args.answers, **sure}
         paths.append(atomic_write_csv(pd.DataFrame([row]), output / "recommendation.csv"))
         summary["recommendation"] = row
-    config = {**settings, "oracle": args.oracle, "answers": args.answers, "trials": args.trials,
+    config = {**settings, "oracle": args.oracle, "answers": args.answers,
+              "answer_file": args.answer_file, "trials": args.trials,
               "target": args.target, "state": str(session.path), "output": str(output)}
     paths.append(write_manifest(output, config, seeds={"searcher": args.seed},
                                 wall_time_s=time.perf_counter() - started,

@@ -19,6 +19,11 @@ frame is scored as ``ergohandover score --keypoints`` scores it, with the sessio
 box's mass, coupling and activity) as known; where the format leaves the objective open (a
 column it cannot see), the answer is the middle of the objective's interval.
 
+A session of preferences (``--answers pairwise``) takes instead, for every handover after the
+first feasible one, how it compared with the handover before it (:class:`PreferenceReader`):
+``better``, ``worse`` or ``same`` (or ``b``, ``w``, ``s``), or ``x``; the first handover is
+answered ``ok`` (or ``x``).
+
 Anything else is refused with one line saying what was typed and what is allowed, so that the
 person can answer again; nothing is guessed.
 """
@@ -202,3 +207,49 @@ class AnswerReader:
         if twice:
             raise Refused(f"a posture header line naming {twice[0]!r} twice")
         return tuple(cells)
+
+
+PREFERENCES = {"better": -1.0, "b": -1.0, "worse": 1.0, "w": 1.0, "same": 0.0, "s": 0.0}
+"""What a handover compared with the one before it may be called, and the answer it is
+(:mod:`~ergohandover.search.preferences`: BETTER, WORSE, SAME)."""
+
+
+class PreferenceReader:
+    """Turns answer lines into preferences: this handover against the last feasible one before
+    it (:meth:`begin` says which that is), ``ok`` for the first, ``x`` where the worker could
+    not take the box."""
+
+    header = None
+
+    def __init__(self):
+        self.previous: tuple[int, tuple[float, float, float]] | None = None
+
+    def begin(self, previous: tuple[int, tuple[float, float, float]] | None) -> None:
+        """The trial and location this proposal is compared with (None: nothing before)."""
+        self.previous = previous
+
+    @property
+    def prompt(self) -> str:
+        if self.previous is None:
+            return "'ok' once the handover is done, or 'x' if the worker cannot take it there: "
+        return (f"better, worse or same than trial {self.previous[0]}'s handover, or 'x' if "
+                "the worker cannot take it there: ")
+
+    @property
+    def expected(self) -> str:
+        if self.previous is None:
+            return "ok (the first handover: nothing to compare it with), or x"
+        return (f"better, worse or same (b, w, s): this handover against trial "
+                f"{self.previous[0]}'s, or x if the worker cannot take the box there")
+
+    def read(self, line: str) -> Answer:
+        text = line.strip()
+        word = text.lower()
+        if word in INFEASIBLE:
+            return Answer(math.inf, "infeasible", text)
+        if self.previous is None and word == "ok":
+            return Answer(0.0, "first", text)
+        if self.previous is not None and word in PREFERENCES:
+            return Answer(PREFERENCES[word], "preference", text)
+        shown = repr(text) if text else "nothing typed"
+        raise Refused(f"{shown} is not an answer: expected {self.expected}")

@@ -20,7 +20,7 @@ from typing import IO, NamedTuple
 
 from ..errors import ErgohandoverError
 from ..io.atomic import atomic_write
-from .answers import Answer, AnswerReader, Refused
+from .answers import Answer, AnswerReader, PreferenceReader, Refused
 
 
 class AnswersEnded(ErgohandoverError, EOFError):
@@ -28,12 +28,15 @@ class AnswersEnded(ErgohandoverError, EOFError):
 
 
 class Proposal(NamedTuple):
-    """Trial ``trial`` of ``budget``: the grid ``cell`` at ``location`` (x, y, z) [m]."""
+    """Trial ``trial`` of ``budget``: the grid ``cell`` at ``location`` (x, y, z) [m];
+    ``previous``: the last feasible trial before it (number, cell, location), which a preference
+    compares it with (None: none)."""
 
     trial: int
     budget: int
     cell: int
     location: tuple[float, float, float]
+    previous: tuple[int, int, tuple[float, float, float]] | None = None
 
     def describe(self) -> str:
         return f"trial {self.trial}/{self.budget}: hand the box at {in_cm(self.location)}"
@@ -77,13 +80,34 @@ class TwinOracle(Oracle):
         return Answer(score, "twin", "twin")
 
 
+class ComparingTwin(TwinOracle):
+    """The twin's preference: this handover's score against the last feasible one's (lower is
+    better; equal scores: same), ``ok`` for the first."""
+
+    def answer(self, proposal: Proposal) -> Answer:
+        from .answers import PREFERENCES
+
+        score = self.scores.score(proposal.cell)
+        if not math.isfinite(score):
+            word, shown = "x", "x (the twin cannot take the box there)"
+        elif proposal.previous is None:
+            word = shown = "ok"
+        else:
+            before = self.scores.score(proposal.previous[1])
+            word = "better" if score < before else "worse" if score > before else "same"
+            shown = f"{word} ({self.scores.objective} {score:g} against {before:g})"
+        print(f"twin: {shown}", file=self.output, flush=True)
+        value = math.inf if word == "x" else 0.0 if word == "ok" else PREFERENCES[word]
+        return Answer(value, "twin", word)
+
+
 class AskOracle(Oracle):
     """Prompts on ``output`` and reads one answer a line from ``source``; echoes each line when
     ``source`` is not a terminal (a script's answers then show in the transcript)."""
 
     name = "ask"
 
-    def __init__(self, reader: AnswerReader, source: IO[str] | None = None,
+    def __init__(self, reader: AnswerReader | PreferenceReader, source: IO[str] | None = None,
                  output: IO[str] | None = None, errors: IO[str] | None = None):
         self.reader = reader
         self.source = source or sys.stdin
@@ -95,6 +119,7 @@ class AskOracle(Oracle):
         return self.reader.header
 
     def answer(self, proposal: Proposal) -> Answer:
+        begin(self.reader, proposal)
         while True:
             self.output.write(self.reader.prompt)
             self.output.flush()
@@ -107,6 +132,13 @@ class AskOracle(Oracle):
             answer = read_or_refuse(self.reader, line, self.errors)
             if answer is not None:
                 return answer
+
+
+def begin(reader, proposal: Proposal) -> None:
+    """Tell a preference reader what the proposal is compared with."""
+    if hasattr(reader, "begin"):
+        previous = proposal.previous
+        reader.begin(None if previous is None else (previous[0], previous[2]))
 
 
 def read_or_refuse(reader: AnswerReader, line: str, errors: IO[str]) -> Answer | None:
@@ -141,7 +173,8 @@ class FileOracle(Oracle):
 
     name = "file"
 
-    def __init__(self, path: Path, reader: AnswerReader, poll: float, proposal_file: Path,
+    def __init__(self, path: Path, reader: AnswerReader | PreferenceReader, poll: float,
+                 proposal_file: Path,
                  output: IO[str] | None = None, errors: IO[str] | None = None):
         self.path, self.reader, self.poll = Path(path), reader, poll
         self.proposal_file = proposal_file
@@ -158,6 +191,7 @@ class FileOracle(Oracle):
         text = f"trial,x,y,z\n{proposal.trial},{x:.6g},{y:.6g},{z:.6g}\n"
         self.proposal_file.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(self.proposal_file, lambda handle: handle.write(text))
+        begin(self.reader, proposal)
         waiting = False
         while True:
             self._read_new_lines()

@@ -129,6 +129,22 @@ class PairwiseSearcher(NewCellSearcher):
         best = preferred(self.grid, self.cells, self.answers_told)
         return None if best is None else self.cells[best]
 
+    def confidence(self, draws: int = 4000) -> float | None:
+        """The model's probability that :meth:`recommend`'s location is the best of the
+        feasible ones seen (Monte Carlo over its posterior, seeded); None before any
+        comparison."""
+        feasible = [i for i, a in enumerate(self.answers_told) if math.isfinite(a)]
+        pairs = comparisons(self.answers_told)
+        if not pairs or not feasible:
+            return None
+        model = PreferenceModel(self.grid.coordinates(self.cells), pairs)
+        mean, cov = model.posterior(self.grid.coordinates([self.cells[i] for i in feasible]))
+        values, vectors = np.linalg.eigh((cov + cov.T) / 2)
+        noise = np.random.default_rng(self.seed).standard_normal((draws, len(feasible)))
+        samples = mean + (noise * np.sqrt(np.clip(values, 0, None))) @ vectors.T
+        best = feasible.index(preferred(self.grid, self.cells, self.answers_told))
+        return float((samples.argmax(axis=1) == best).mean())
+
     def _propose(self) -> int:
         if not self.cells:
             first = (self.snap(self._centre) if self.prior is not None

@@ -150,8 +150,12 @@ class Session:
         """The handovers, in order."""
         return self.history
 
-    def best(self) -> Trial | None:
-        """The trial of the lowest feasible score (the earliest of equals), or None."""
+    def best(self, searcher: AskTellSearcher | None = None) -> Trial | None:
+        """The trial of the lowest feasible score (the earliest of equals), or None; of a
+        searcher told preferences, the trial of the location it prefers."""
+        if searcher is not None and searcher.answers == "preferences":
+            cell = searcher.recommend()
+            return next((r for r in self.trials if r.cell == cell), None)
         feasible = [r for r in self.trials if math.isfinite(r.score)]
         return min(feasible, key=lambda r: r.score) if feasible else None
 
@@ -202,7 +206,10 @@ class AnsweredScores(ScoreSource):
 
     def score(self, flat: int) -> float:
         location = tuple(round(v, 9) for v in self.grid.point(flat))
-        proposal = Proposal(len(self.session.trials) + 1, self.budget, flat, location)
+        before = next((t for t in reversed(self.session.trials) if math.isfinite(t.score)), None)
+        proposal = Proposal(len(self.session.trials) + 1, self.budget, flat, location,
+                            None if before is None else (before.trial, before.cell,
+                                                         before.location))
         self.say(proposal.describe())
         answer = self.oracle.answer(proposal)
         self.session.posture_header = self.oracle.header
@@ -235,6 +242,7 @@ def run(session: Session, searcher: AskTellSearcher, oracle: Oracle, budget: int
     """
     scores = AnsweredScores(session, oracle, searcher.grid, session.settings.get("objective"),
                             budget, say)
+    scores.answers = searcher.answers  # the oracle answers as the searcher is told
     record = run_search(searcher, scores, Budget(evaluations=budget, stop_score=target),
                         known=[(r.cell, r.score) for r in session.history])
     return ENDINGS[record.stopped_by]

@@ -56,7 +56,7 @@ class PersonaliseConfig:
     measured_sds: tuple[float, ...] = setting((0.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     measured_iccs: tuple[float, ...] = setting((0.89, 0.51), lo=0, hi=1)
     measured_budgets: tuple[int, ...] = setting((5, 10, 15, 25, 50), lo=2)
-    measured_runs: int = setting(2, lo=0)
+    measured_runs: int = setting(1, lo=0)
     measured_variants: tuple[str, ...] = setting(MEASURED_VARIANTS)
     measured_variant_workers: int = setting(5, lo=0)
 
