@@ -94,3 +94,17 @@ def test_a_preference_searcher_cannot_stop_at_a_score():
     with pytest.raises(ConfigError, match="cannot stop at a score"):
         run(make("pairwise", GRID, 0), ArrayScores(GRID, bowl()),
             Budget(evaluations=10, stop_score=3.0))
+
+
+def test_a_learner_given_the_prior_starts_every_episode_at_the_priors_cell():
+    values = bowl()
+    start = GRID.nearest_cell(PRIOR.location)
+    for name in ("qlearning+prior", "randomwalk+prior"):
+        record = run(make(name, GRID, 4, PRIOR), ArrayScores(GRID, values),
+                     Budget(evaluations=40))
+        assert record.cells[0] == start
+        plain = run(make(name.removesuffix("+prior"), GRID, 4), ArrayScores(GRID, values),
+                    Budget(evaluations=40))
+        assert plain.cells[0] != start  # a random start without it
+    with pytest.raises(ConfigError, match="needs a worker's prior"):
+        make("qlearning+prior", GRID, 0)

@@ -82,7 +82,7 @@ def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, c
     (["--agent", "qlearning", "--steps", "1.5"], "--steps 1.5: not a whole number"),
     (["--agent", "qlearning", "--time-cap", "0"], "--time-cap 0: must be > 0 s"),
     (["--agent", "sarsa", "--steps", "5"],
-     "--agent sarsa: not one of qlearning, qlearning-adaptive, dqn"),
+     "--agent sarsa: not one of qlearning, qlearning+prior, qlearning-adaptive, dqn"),
     (["--agent", "random-draws", "--steps", "5", "--temperature", "adaptive"],
      "--temperature adaptive cannot be used with --agent random-draws"),
     (["--agent", "qlearning", "--steps", "5", "--objective", "owas"],

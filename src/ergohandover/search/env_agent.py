@@ -18,9 +18,12 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Any
 
+import numpy as np
+
 from ..envs.handover_env import EPISODE_STEPS, HandoverEnv
 from ..envs.scores import ScoreSource
 from ..landscape.grid import Grid
+from .cells import prior_point
 from .prior import Prior
 from .protocol import ASKS_PER_EVALUATION, Evaluations, Searcher
 from .record import Budget, Progress, Record
@@ -47,7 +50,8 @@ class EnvAgent(Searcher):
     """An agent of the environment; see the module.
 
     Args:
-        grid, seed, prior: as every searcher's (the prior is not used).
+        grid, seed, prior: as every searcher's; with a prior, every episode starts at the
+            prior's cell (its location snapped into the grid) instead of a random one.
         name: its registry name.
         runner: ``module:function`` of its run (:func:`attribute`).
         config: ``module:Class`` of its settings (None: it has none), made with
@@ -78,6 +82,9 @@ class EnvAgent(Searcher):
         given = {"episode_end": self.episode_end}
         if self.target is not None:
             given["target"] = self.target
+        if self.prior is not None:
+            centre = np.rint(prior_point(self.grid, self.prior)[0]).astype(int)
+            given["start"] = tuple(int(v) for v in centre)
         if self.observation == "continuous":
             from ..envs.continuous_env import ContinuousHandoverEnv
 

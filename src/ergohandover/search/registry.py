@@ -18,7 +18,7 @@ so the study can run both).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ..errors import ConfigError
 from ..landscape.grid import Grid
@@ -89,18 +89,27 @@ def with_prior_variant(name: str, label: str, make: str,
                   variant_of=name, answers=answers))
 
 
+def started_at_prior(agent: Entry) -> tuple[Entry, Entry]:
+    """An agent of the environment that takes a prior, and its entry always given the
+    worker's prior: every episode then starts at the prior's cell (:mod:`.env_agent`)."""
+    return (replace(agent, prior="optional"),
+            replace(agent, name=f"{agent.name}+prior", label=f"{agent.label} + prior",
+                    prior="needs", variant_of=agent.name))
+
+
 SEARCHERS: dict[str, Entry] = {e.name: e for e in (
-    Entry("qlearning", "Q-learning (τ 0.7)", "learner", ".qlearning:run_qlearning",
-          config=".qlearning:QLearningConfig", options={"temperature": "fixed"}, policy="table"),
+    *started_at_prior(Entry("qlearning", "Q-learning (τ 0.7)", "learner",
+                            ".qlearning:run_qlearning", config=".qlearning:QLearningConfig",
+                            options={"temperature": "fixed"}, policy="table")),
     Entry("qlearning-adaptive", "Q-learning (adaptive τ)", "learner", ".qlearning:run_qlearning",
           config=".qlearning:QLearningConfig", options={"temperature": "adaptive"},
           policy="table"),
     Entry("dqn", "DQN", "learner", ".dqn:run_dqn", config=".dqn:DQNConfig",
           observation="position", policy="network"),
-    Entry("sac", "SAC", "learner", ".sac:run_sac", config=".sac:SACConfig",
-          observation="continuous", policy="actor"),
-    Entry("randomwalk", "random walk", "walk", ".walks:run_randomwalk",
-          config=".walks:WalkConfig", policy="random"),
+    *started_at_prior(Entry("sac", "SAC", "learner", ".sac:run_sac", config=".sac:SACConfig",
+                            observation="continuous", policy="actor")),
+    *started_at_prior(Entry("randomwalk", "random walk", "walk", ".walks:run_randomwalk",
+                            config=".walks:WalkConfig", policy="random")),
     Entry("random-draws", "random draws", "walk", ".walks:run_random_draws"),
     Entry("hillclimb", "hill-climbing", "walk", ".walks:run_hillclimb"),
     Entry("random-order", "random order", "searcher", ".random_order:RandomOrderSearcher"),
@@ -114,7 +123,8 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
 )}
 """Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
 adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk
-with the learner's moves and restarts, random draws (uniform, with replacement: one score read
+with the learner's moves and restarts (Q-learning, SAC and the walk also with every episode
+started at the worker's prior: ``+prior``), random draws (uniform, with replacement: one score read
 a step), hill-climbing with random restarts, and the ask/tell searchers: random order (uniform
 without replacement), the population prior alone, Bayesian optimisation (Optuna's GP sampler),
 TPE, CMA-ES, particle-swarm optimisation and a preference GP told only which of the last two

@@ -20,9 +20,11 @@ study's measured answers): the gaze task, the effort task's free share and the l
 preferences, three of the choices that move the optimum most."""
 
 PERSONALISE_SEARCHERS = ("random-order", "prior", "bo+prior", "tpe", "tpe+prior", "cmaes",
-                         "cmaes+prior", "pso", "pso+prior", "qlearning", "randomwalk", "sac")
+                         "cmaes+prior", "pso", "pso+prior", "qlearning", "qlearning+prior",
+                         "randomwalk", "sac", "sac+prior")
 """The personalisation study's searchers by default (``+prior``: warm-started by the worker's
-prior); Bayesian optimisation without the prior is in configs/personalise_full.json."""
+prior; a learner's every episode starts at it); Bayesian optimisation without the prior is in
+configs/personalise_full.json."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -44,14 +46,15 @@ class PersonaliseConfig:
     # stays within 45 minutes on 2 cores, and configs/personalise_full.json runs them further
     # (and Bayesian optimisation without the prior).
     budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
-                                           "sac": 100}, lo=1)
+                                           "sac": 100, "sac+prior": 100}, lo=1)
     # Answers as a site gets them (study/measured_answers.py): equal budgets, no stop rule, the
     # recommendation's true regret; posture errors of each SD [deg], raters of each ICC (the
     # published intra-rater reliability of an expert and a novice: search/measured.py), and
     # out of model the first `measured_variant_workers` workers with each sensitivity variant;
     # each searcher up to its budget cap (Bayesian optimisation's cost caps it at 25).
     measured_searchers: tuple[str, ...] = setting(
-        ("random-order", "prior", "bo+prior", "cmaes+prior", "pso+prior", "pairwise+prior"),
+        ("random-order", "prior", "bo+prior", "cmaes+prior", "pso+prior", "pairwise+prior",
+         "qlearning+prior"),
         choices=SEARCHERS)
     measured_sds: tuple[float, ...] = setting((0.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     measured_iccs: tuple[float, ...] = setting((0.89, 0.51), lo=0, hi=1)

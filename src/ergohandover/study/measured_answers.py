@@ -104,7 +104,8 @@ class MeasuredJob:
         worker: the worker's id; ``twin``: :data:`IN_MODEL` or the sensitivity variant its
             twin differs by; ``evaluator``: that twin (who answers).
         grid, objective, prior: as :class:`~.personalise.PersonaliseJob`'s.
-        searcher: a searcher of the registry (given the prior if it takes one).
+        searcher: a searcher of the registry (given the prior if it needs one: the ``+prior``
+            entries).
         answers: how each handover is answered.
         budgets: handovers after which the recommendation is read (the largest is run).
         seeds: one seed per run.
@@ -181,7 +182,7 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
     lowest = float(values.min())
     postures = _POSTURES.setdefault(f"{truth_key(job.worker, job.twin)}|{job.grid.describe()}",
                                     {})
-    prior = None if entry(job.searcher).prior == "none" else job.prior
+    prior = job.prior if entry(job.searcher).prior == "needs" else None
 
     def source(rng):
         return job.answers.source(job.grid, job.evaluator, job.objective, values, rng, postures)
