@@ -1,8 +1,9 @@
 """Benchmark: the cost of each ask/tell searcher per evaluation as its history grows, and SAC's
 steps per second.
 
-Usage: python experiments/bench_searchers.py [--searchers random-order,prior,bo,tpe,cmaes,pso]
-       [--sizes 10,100,250,1000] [--cap 120] [--seed 0] [--sac-steps 1000]
+Usage: python experiments/bench_searchers.py
+       [--searchers random-order,prior,bo,tpe,cmaes,pso,pairwise] [--sizes 10,100,250,1000]
+       [--cap 120] [--seed 0] [--sac-steps 1000]
 
 The grid is the population study's: the paper-code boundary every 1 cm (41 x 73 x 31 = 92,783
 cells), scored for the default worker (its landscape from the cache, else swept there, ~1 min
@@ -102,7 +103,7 @@ def sac_steps_per_s(landscape, steps: int, seed: int) -> float:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
-    parser.add_argument("--searchers", default=f"{REFERENCE},prior,bo,tpe,cmaes,pso")
+    parser.add_argument("--searchers", default=f"{REFERENCE},prior,bo,tpe,cmaes,pso,pairwise")
     parser.add_argument("--sizes", default="10,100,250,1000")
     parser.add_argument("--cap", type=float, default=120.0, help="seconds per run")
     parser.add_argument("--seed", type=int, default=0)

@@ -76,8 +76,8 @@ def test_the_report_blocks_and_the_commands_default_are_the_committed_results():
         assert block(name) == made, name
     from ergohandover.cli import personalise
 
-    assert personalise_tables.best_searcher(
-        read("summary.csv")).removesuffix("+prior") == personalise.DEFAULT_SEARCHER
+    assert personalise_tables.command_default(
+        read("measured_summary.csv")).removesuffix("+prior") == personalise.DEFAULT_SEARCHER
 
 
 def test_the_best_searcher_meets_the_target_or_the_report_says_it_does_not():

@@ -47,8 +47,20 @@ def ranking(summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def best_searcher(summary: pd.DataFrame) -> str:
-    """The searcher a practitioner should use: the first of :func:`ranking`."""
+    """The searcher that needs the fewest handovers with exact answers: the first of
+    :func:`ranking`."""
     return str(ranking(summary).iloc[0]["searcher"])
+
+
+def command_default(measured: pd.DataFrame) -> str:
+    """``ergohandover personalise``'s default: of the ask/tell searchers told scores, whose
+    recommendation is the lowest answer (the command's rule), the one whose recommendation is
+    most often a true optimum in model at the equal budget, on average over the answer models
+    (over all of them, not the one where it did best: a choice on more runs)."""
+    rows = measured[(measured["rule"] == "lowest") & (measured["model"] == "in-model")
+                    & (measured["budget"] == equal_budget(measured))
+                    & measured["searcher"].map(lambda s: SEARCHERS[s].kind == "searcher")]
+    return str(rows.groupby("searcher")["p_regret_0"].mean().idxmax())
 
 
 def summary_table(summary: pd.DataFrame) -> list[str]:
@@ -144,29 +156,61 @@ def at(measured: pd.DataFrame, model: str, answers: str, searcher: str, rule: st
                     & (measured["budget"] == budget)].iloc[0]
 
 
+def own_rule(measured: pd.DataFrame) -> pd.DataFrame:
+    """Each searcher's rows under its own recommendation rule (the lowest answer, or the
+    preferred location), without the ``confirm`` alternative."""
+    return measured[measured["rule"] != "confirm"]
+
+
+def span(measured: pd.DataFrame, model: str, answers: str, budget: int,
+         searchers: list[str]) -> tuple[float, float]:
+    rows = own_rule(measured)
+    rows = rows[(rows["model"] == model) & (rows["answers"] == answers)
+                & (rows["budget"] == budget) & rows["searcher"].isin(searchers)]
+    return float(rows["p_regret_0"].min()), float(rows["p_regret_0"].max())
+
+
+def percent_span(low: float, high: float) -> str:
+    return f"{low:.0%}" if round(100 * low) == round(100 * high) else \
+        f"{100 * low:.0f}–{high:.0%}"
+
+
 def headline(summary: pd.DataFrame, measured: pd.DataFrame | None = None) -> str:
     """The README's row: with answers as a site gets them, at an equal budget, in and out of
-    model (the exact-answer figures are the report's ceiling); the ceiling alone without
-    measured answers."""
+    model, the range over the searchers that start from the prior, the best of them with its
+    interval, and where the ranking changes (the exact-answer figures are the report's
+    ceiling); the ceiling alone without measured answers."""
     if measured is None:
         first = ranking(summary).iloc[0]
         return f"on {int(first['n_workers'])} sampled workers, {ceiling(summary)}"
     budget = equal_budget(measured)
-    best = best_measured(measured, "in-model", HEADLINE_ANSWERS, budget)
-    searcher, rule = best["searcher"], best["rule"]
-    exact = at(measured, "in-model", "exact", searcher, rule, budget)
-    out = at(measured, "out-of-model", HEADLINE_ANSWERS, searcher, rule, budget)
-    novice = measured[measured["answers"].str.startswith("rater")]
-    rater = min(novice["answers"].unique(), key=lambda a: float(a.split()[-1]))
-    rated = at(measured, "in-model", rater, searcher, rule, budget)
+    started = [s for s in dict.fromkeys(measured["searcher"]) if SEARCHERS[s].prior == "needs"]
+    best = best_measured(own_rule(measured[measured["searcher"].isin(started)]), "in-model",
+                         HEADLINE_ANSWERS, budget)
+    rater = min((a for a in measured["answers"].unique() if a.startswith("rater")),
+                key=lambda a: float(a.split()[-1]))
+    worst = max((a for a in measured["answers"].unique() if a.startswith("posture")),
+                key=lambda a: float(a.split()[2]))
+    at_worst = best_measured(own_rule(measured[measured["searcher"].isin(started)]),
+                             "in-model", worst, budget)
     random = at(measured, "in-model", HEADLINE_ANSWERS, "random-order", "lowest", budget)
-    return (f"with each handover's posture measured with 5° of error, after "
-            f"{budget} handovers {rule_label(searcher, rule)} recommends a worker's "
-            f"true optimum in {share(best)} of runs ({int(best['n_workers'])} workers; random "
-            f"order {random['p_regret_0']:.0%}); exact answers {exact['p_regret_0']:.0%}, a "
-            f"{rater.replace('rater ICC', 'rater of ICC')} {rated['p_regret_0']:.0%}, and "
-            f"{out['p_regret_0']:.0%} ({out['ci_low']:.0%}–{out['ci_high']:.0%}) for workers "
-            f"whose twin differs from the prior's ({int(out['n_workers'])})")
+    out = measured[measured["model"] == "out-of-model"]
+
+    def given(model: str, answers: str) -> str:
+        return percent_span(*span(measured, model, answers, budget, started))
+
+    return (f"answered as a site would — each handover's posture measured with 5° of error, "
+            f"{budget} handovers, no stop at a known optimum — the prior and the "
+            f"{len(started) - 1} searchers started from it recommend a worker's true optimum "
+            f"in {given('in-model', HEADLINE_ANSWERS)} of runs (N = "
+            f"{int(best['n_workers'])} workers, one run each; the best, "
+            f"{label(best['searcher'])}, {share(best)}; random order "
+            f"{random['p_regret_0']:.0%}); exact answers {given('in-model', 'exact')}, a "
+            f"{rater.replace('rater ICC', 'rater of ICC')} {given('in-model', rater)}, "
+            f"{given('out-of-model', HEADLINE_ANSWERS)} for {int(out['n_workers'].iloc[0])} "
+            f"workers whose twin differs from the prior's; at "
+            f"{worst.removeprefix('posture SD ').replace(' deg', '°')} the best is "
+            f"{label(at_worst['searcher'])} ({at_worst['p_regret_0']:.0%})")
 
 
 def measured_table(measured: pd.DataFrame) -> list[str]:

@@ -5,10 +5,13 @@ a person. On the population study's first workers (each with the twin's landscap
 population's grid standing in for the person), every searcher — the population prior alone,
 Bayesian optimisation (Optuna's GP sampler, the infeasible region as a constraint), TPE,
 CMA-ES, particle-swarm optimisation, Soft Actor-Critic, tabular Q-learning, a random walk and
-random order; ``+prior``: warm-started by the worker's prior — gets paired, seeded runs
+random order; ``+prior``: warm-started by the worker's prior (a learner's episodes start at
+it) — gets paired, seeded runs
 until it evaluates a cell at the worker's own minimum of the objective or spends the largest
 budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
-within B evaluations).
+within B evaluations). Then the same workers, and workers whose twin differs from the prior's,
+are answered as a site would answer (:mod:`..measured_answers`: measured postures, raters, or
+preferences) at equal budgets with no stop rule.
 
 Writes results/personalise/:
   workers.csv   each worker: body, own optimum (score, cells at it, share of the grid), its
