@@ -86,13 +86,15 @@ def measured_figure() -> None:
             if row == 1:
                 ax.set_xlabel("handovers")
         axes[row][0].set_ylabel("recommendation a true optimum")
-    axes[0][-1].legend(fontsize=6, loc="lower right")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=7,
+               frameon=False)
     sizes = summary.groupby("model")["n_workers"].first()
     runs = int(summary["n_runs"].iloc[0]) // int(summary["n_workers"].iloc[0])
     fig.suptitle(f"Personalising with answers as a site gets them: N = {sizes['in-model']} "
                  f"workers in model, {sizes['out-of-model']} out of model, {runs} run each, "
                  "equal budgets, no stop rule", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.05, 1, 1))  # room for the legend below the panels
     save(fig, "personalise_measured.png")
 
 
