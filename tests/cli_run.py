@@ -8,6 +8,7 @@ import contextlib
 import io
 import subprocess
 import sys
+import time
 
 from ergohandover.cli import main
 
@@ -28,3 +29,13 @@ def run_cli(*args: str, stdin: str | None = "") -> subprocess.CompletedProcess:
         sys.stdin = saved
     return subprocess.CompletedProcess(["ergohandover", *args], code, out.getvalue(),
                                        err.getvalue())
+
+
+def wait_for(condition, what: str, timeout: float = 120) -> None:
+    """Poll ``condition`` every 0.1 s until it holds; an AssertionError naming ``what`` after
+    ``timeout`` seconds (a command running in another process)."""
+    end = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > end:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.1)

@@ -13,12 +13,12 @@ import shlex
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from cli_run import wait_for
 from conftest import neutral_columns
 
 from ergohandover.cli import build_parser, main
@@ -119,14 +119,6 @@ def test_the_acceptance_session_through_the_console_script(tmp_path):
                      r"4 of 4 trials used$", second.stdout, re.MULTILINE), second.stdout
     for name in ("trials.csv", "recommendation.csv", "manifest.json", "state.json"):
         assert (tmp_path / "run" / name).is_file()
-
-
-def wait_for(condition, what: str, timeout: float = 120) -> None:
-    end = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > end:
-            raise AssertionError(f"timed out waiting for {what}")
-        time.sleep(0.1)
 
 
 @pytest.mark.parametrize(("signum", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])

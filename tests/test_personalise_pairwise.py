@@ -8,10 +8,10 @@ import json
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pandas as pd
+from cli_run import wait_for
 
 from ergohandover.cli import main
 from ergohandover.search.pairwise import preferred
@@ -68,14 +68,6 @@ def preferred_cell(saved: list[dict], told: list[float]) -> int:
     grid = Grid(Boundary((-0.2, 0.2), (0.72, 1.44), (0.3, 0.6)), 0.01)  # the command's grid
     cells = [grid.nearest_cell((h["x"], h["y"], h["z"])) for h in saved]
     return saved[preferred(grid, cells, told)]["trial"]
-
-
-def wait_for(condition, what: str, timeout: float = 120) -> None:
-    end = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > end:
-            raise AssertionError(f"timed out waiting for {what}")
-        time.sleep(0.1)
 
 
 def test_a_pairwise_session_stopped_by_ctrl_c_resumes_with_the_same_proposals(tmp_path):
