@@ -164,6 +164,8 @@ def test_the_confirm_rule_measures_the_best_again_and_recommends_the_lowest_mean
     assert asked == [17, 11] and index == 1 and mean == 2.5 and spent == 10
     index, _, spent = confirmed(cells, [math.inf] * 10, 10, measure)
     assert index is None and spent == 8
+    with pytest.raises(ConfigError, match="budget = 1 is outside"):
+        confirmed(cells, scores, 1, measure)
 
 
 def test_a_rater_gives_whole_scores_whose_reliability_is_the_icc():

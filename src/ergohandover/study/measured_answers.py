@@ -164,8 +164,11 @@ def confirmed(cells: list[int], scores: list[float], budget: int,
     (:func:`confirmations`; the first of equals) measured once more with ``measure_again(cell)``,
     the lowest mean of two recommended. Returns its index (None: nothing feasible), its mean
     answer and the handovers spent."""
+    if budget < 2:
+        raise ConfigError(f"budget = {budget} is outside the valid range for confirming (at "
+                          "least 2: one handover to search, one to measure again)")
     k = confirmations(budget)
-    seen = np.asarray(scores[:max(budget - k, 1)], dtype=float)
+    seen = np.asarray(scores[:budget - k], dtype=float)
     feasible = np.flatnonzero(np.isfinite(seen))
     if feasible.size == 0:
         return None, math.nan, len(seen)
