@@ -408,9 +408,9 @@ def report(args, session, best, stopped: str, sure: dict) -> None:
           f"{best.score:g}, observed at trial {best.trial}; {ending(args, session, stopped)}",
           flush=True)
     close = sure["within_1_of_it"]
-    advice = ": one answer is one measurement, so measure the closest again" if close else ""
+    why = " (one answer is one measurement: with measurement error any may be as good)"
     print(f"uncertainty: {close} of the {sure['feasible_tried'] - 1} other feasible locations "
-          f"tried scored within one point of it{advice}", flush=True)
+          f"tried scored within one point of it{why if close else ''}", flush=True)
 
 
 def write_outputs(args, session, best, stopped: str, output: Path, settings: dict,
