@@ -83,7 +83,7 @@ def add_parser(subparsers) -> None:
     answers = parser.add_argument_group("answers")
     answers.add_argument("--oracle", required=True, type=choice(ORACLES),
                          metavar="|".join(ORACLES), help="who answers each proposal: the "
-                         "worker's twin, a person at the terminal, or --answers")
+                         "worker's twin, a person at the terminal, or --answer-file")
     answers.add_argument("--answers", type=choice(ANSWER_KINDS), metavar="|".join(ANSWER_KINDS),
                          help="what is answered: a score of each handover, or pairwise: which "
                          "of the last two handovers was better (better, worse, same) (default: "
