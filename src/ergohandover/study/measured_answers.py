@@ -10,7 +10,7 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   (:class:`~..search.measured.RatedScores`);
 - **equal budgets and no stop rule**: nobody knows the worker's minimum; every searcher gets the
   same handovers, and what it recommends after B of them is read from what was observed;
-- **two recommendation rules** (:data:`RULES`): ``lowest``, the location of the lowest answer
+- **recommendation rules** (:data:`RULES`): ``lowest``, the location of the lowest answer
   among B handovers (the first of equals); ``confirm``, B − k handovers searched and the last
   k (:func:`confirmations`) spent measuring the k best locations again, the lowest mean of two
   answers recommended — a repeat at a location costs a handover, as it is a new measurement;
@@ -23,8 +23,8 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   prior has never seen.
 
 What counts is the recommendation's **true regret**: the worker's error-free score there minus
-their own optimum, and whether it is 0. Searchers that take a prior get the worker's
-leave-one-out prior. A run's errors come from a stream of its own (its seed and the answers'
+their own optimum, and whether it is 0. The ``+prior`` searchers (and the prior alone) get the
+worker's leave-one-out prior. A run's errors come from a stream of its own (its seed and the answers'
 model), so runs are paired across searchers only in their seeds.
 """
 
