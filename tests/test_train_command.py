@@ -83,6 +83,8 @@ def test_train_online_on_a_small_grid_then_from_the_cached_landscape(tmp_path, c
     (["--agent", "qlearning", "--time-cap", "0"], "--time-cap 0: must be > 0 s"),
     (["--agent", "sarsa", "--steps", "5"],
      "--agent sarsa: not one of qlearning, qlearning+prior, qlearning-adaptive, dqn"),
+    (["--agent", "pairwise", "--steps", "10"],
+     "--agent pairwise: it is told which of two handovers was better, not scores"),
     (["--agent", "random-draws", "--steps", "5", "--temperature", "adaptive"],
      "--temperature adaptive cannot be used with --agent random-draws"),
     (["--agent", "qlearning", "--steps", "5", "--objective", "owas"],

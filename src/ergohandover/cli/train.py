@@ -120,6 +120,10 @@ def parse(args: argparse.Namespace) -> dict:
         raise InputError("give exactly one of --time-cap S or --steps N (got "
                          f"{'neither' if args.time_cap is None else 'both'})")
     name = args.agent
+    if entry(name).answers != "scores":
+        raise InputError(f"--agent {name}: it is told which of two handovers was better, not "
+                         "scores, and train reports the lowest score a run evaluated (use "
+                         "ergohandover personalise --answers pairwise)")
     if args.temperature == "adaptive":
         if "temperature" not in entry(name).options:
             raise InputError(f"--temperature adaptive cannot be used with --agent {name} "
