@@ -24,8 +24,8 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
 
 What counts is the recommendation's **true regret**: the worker's error-free score there minus
 their own optimum, and whether it is 0. The ``+prior`` searchers (and the prior alone) get the
-worker's leave-one-out prior. A run's errors come from a stream of its own (its seed and the answers'
-model), so runs are paired across searchers only in their seeds.
+worker's leave-one-out prior. A run's errors come from a stream of its own (its seed and the
+answers' model), so runs are paired across searchers only in their seeds.
 """
 
 from __future__ import annotations
