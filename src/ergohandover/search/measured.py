@@ -36,10 +36,6 @@ from ..landscape.grid import Grid
 from ..robustness.posture_error import ErrorModel, perturbed
 from ..twin.evaluate import Evaluator, evaluate_arrays
 
-RELIABILITY = {"expert": 0.89, "novice": 0.51}
-"""Intra-rater ICC of the final REBA score by a rater's expertise (Balogh et al. 2025, PLOS One
-20(5):e0323262, 21 videos rated twice; intervals 0.78-0.95 and 0.25-0.74)."""
-
 MEASURED = ("paper_postural", "reba", "reba_ab", "rula")
 """The objectives a measured posture gives (a landscape-only objective is not measured)."""
 

@@ -49,7 +49,8 @@ class PersonaliseConfig:
                                            "sac": 100, "sac+prior": 100}, lo=1)
     # Answers as a site gets them (study/measured_answers.py): equal budgets, no stop rule, the
     # recommendation's true regret; posture errors of each SD [deg], raters of each ICC (the
-    # published intra-rater reliability of an expert and a novice: search/measured.py), and
+    # intra-rater ICC of the final REBA score of an expert, 0.89 (0.78-0.95), and a novice, 0.51
+    # (0.25-0.74): Balogh et al. 2025, PLOS One 20(5):e0323262, 21 videos rated twice), and
     # out of model the first `measured_variant_workers` workers with each sensitivity variant;
     # each searcher up to its budget cap (Bayesian optimisation's cost caps it at 25).
     measured_searchers: tuple[str, ...] = setting(
