@@ -192,10 +192,10 @@ def check(args: argparse.Namespace) -> None:
 
 def registered_searchers() -> tuple[str, ...]:
     """The registry's ask/tell searchers (a ``+prior`` variant is this command's searcher with
-    its default prior)."""
-    from ..search.registry import names
+    its default prior; the fitted twin, which needs candidate twins, runs in the study only)."""
+    from ..search.registry import entry, names
 
-    return names("searcher", variants=False)
+    return tuple(n for n in names("searcher", variants=False) if not entry(n).twins)
 
 
 def worker_prior(args: argparse.Namespace, evaluator):

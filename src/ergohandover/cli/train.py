@@ -120,6 +120,9 @@ def parse(args: argparse.Namespace) -> dict:
         raise InputError("give exactly one of --time-cap S or --steps N (got "
                          f"{'neither' if args.time_cap is None else 'both'})")
     name = args.agent
+    if entry(name).twins:
+        raise InputError(f"--agent {name} needs candidate twins of the worker (the "
+                         "personalisation study's measured comparison runs it)")
     if entry(name).answers != "scores":
         raise InputError(f"--agent {name}: it is told which of two handovers was better, not "
                          "scores, and train reports the lowest score a run evaluated (use "

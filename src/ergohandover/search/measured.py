@@ -11,7 +11,8 @@ scores exactly.
 
 The postures are solved when a cell is first asked for, in aligned cubes of ``block``³ cells
 (as :class:`~ergohandover.envs.scores.OnlineScores`), and kept. Measuring them is vectorised
-scoring of one posture.
+scoring of one posture. The angles measured at the last handover are ``last_posture`` (what a
+searcher that fits a twin to the worker reads: :mod:`.fitted_twin`).
 
 A rater watching the handover gives its score directly (:class:`RatedScores`): the worker's
 error-free score plus a Gaussian error, rounded to a whole score (a rater writes whole scores)
@@ -33,7 +34,7 @@ from ..ergonomics import Posture, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..errors import ConfigError
 from ..landscape.grid import Grid
-from ..robustness.posture_error import ErrorModel, perturbed
+from ..robustness.posture_error import ANGLE_COLUMNS, ErrorModel, perturbed
 from ..twin.evaluate import Evaluator, evaluate_arrays
 
 MEASURED = ("paper_postural", "reba", "reba_ab", "rula")
@@ -65,15 +66,18 @@ class MeasuredScores(ScoreSource):
         self.grid, self.evaluator, self.objective = grid, evaluator, objective
         self.model, self.rng, self.block = model, rng, block
         self.measurements = 0  # handovers measured so far
+        self.last_posture: dict[str, float] | None = None  # the angles the last one measured
         self._postures = {} if postures is None else postures  # None: infeasible
 
     def score(self, flat: int) -> float:
         posture = self.posture(flat)
         self.measurements += 1
+        self.last_posture = None
         if posture is None:
             return math.inf  # nobody measures a handover the worker cannot take
         measured = perturbed(Posture({c: np.array([v]) for c, v in posture.items()}),
                              self.model, 1, self.rng)
+        self.last_posture = {c: float(measured[c][0]) for c in ANGLE_COLUMNS}
         return float(score_postures(measured, self.evaluator.scoring)[self.objective][0])
 
     def posture(self, flat: int) -> dict[str, float] | None:

@@ -51,6 +51,7 @@ class Entry:
         variant_of: the entry this one is a variant of (``bo`` for ``bo+prior``), or None.
         answers: what it is told: ``scores``, or ``preferences`` (which of the last two
             handovers was better: :mod:`.pairwise`).
+        twins: it needs candidate twins of the worker (:mod:`.fitted_twin`).
     """
 
     name: str
@@ -64,6 +65,7 @@ class Entry:
     policy: str | None = None
     variant_of: str | None = None
     answers: str = "scores"
+    twins: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS or self.prior not in PRIORS or self.answers not in ANSWERS:
@@ -120,6 +122,8 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
     *with_prior_variant("pso", "particle swarm", ".pso:PSOSearcher"),
     *with_prior_variant("pairwise", "pairwise preferences (GP)", ".pairwise:PairwiseSearcher",
                         answers="preferences"),
+    Entry("fitted-twin", "fitted twin", "searcher", ".fitted_twin:FittedTwinSearcher",
+          prior="needs", twins=True),
 )}
 """Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
 adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk
@@ -128,7 +132,8 @@ started at the worker's prior: ``+prior``), random draws (uniform, with replacem
 a step), hill-climbing with random restarts, and the ask/tell searchers: random order (uniform
 without replacement), the population prior alone, Bayesian optimisation (Optuna's GP sampler),
 TPE, CMA-ES, particle-swarm optimisation and a preference GP told only which of the last two
-handovers was better, each also warm-started (``+prior``)."""
+handovers was better, each also warm-started (``+prior``), and the twin fitted to the worker's
+first handovers (it needs candidate twins)."""
 LEARNERS = tuple(name for name, e in SEARCHERS.items() if e.learns)
 
 
@@ -146,7 +151,8 @@ def names(kind: str | None = None, variants: bool = True) -> tuple[str, ...]:
                  and (variants or e.variant_of is None))
 
 
-def make(name: str, grid: Grid, seed: int, prior: Prior | None = None, **env) -> Searcher:
+def make(name: str, grid: Grid, seed: int, prior: Prior | None = None, twins=None,
+         **env) -> Searcher:
     """The searcher ``name`` over ``grid``.
 
     Args:
@@ -155,6 +161,8 @@ def make(name: str, grid: Grid, seed: int, prior: Prior | None = None, **env) ->
         seed: its seed.
         prior: the worker's prior: given to the entries that take one, left out of the others;
             an entry that needs one is refused (one line) without it.
+        twins: candidate twins of the worker (a :class:`~.fitted_twin.TwinLibrary`), for an
+            entry that needs them (refused without; left out of the others).
         env: an agent's env settings (``episode_end``, ``target``, ``episode_steps``); an
             ask/tell searcher has no env and ignores them.
     """
@@ -163,8 +171,12 @@ def make(name: str, grid: Grid, seed: int, prior: Prior | None = None, **env) ->
         raise ConfigError(f"searcher {name} needs a worker's prior (a population prior's "
                           "location and SD; use another searcher without one)")
     given = None if spec.prior == "none" else prior
+    if spec.twins and twins is None:
+        raise ConfigError(f"searcher {name} needs candidate twins of the worker (the "
+                          "personalisation study's; use another searcher without them)")
     if spec.kind == "searcher":
-        searcher = attribute(spec.make)(grid, seed, given)
+        extra = {"twins": twins} if spec.twins else {}
+        searcher = attribute(spec.make)(grid, seed, given, **extra)
         searcher.name = name
         return searcher
     return EnvAgent(grid, seed, given, name=name, runner=spec.make, config=spec.config,

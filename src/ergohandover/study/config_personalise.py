@@ -55,7 +55,7 @@ class PersonaliseConfig:
     # each searcher up to its budget cap (Bayesian optimisation's cost caps it at 25).
     measured_searchers: tuple[str, ...] = setting(
         ("random-order", "prior", "bo+prior", "cmaes+prior", "pso+prior", "pairwise+prior",
-         "qlearning+prior"),
+         "qlearning+prior", "fitted-twin"),
         choices=SEARCHERS)
     measured_sds: tuple[float, ...] = setting((0.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     measured_iccs: tuple[float, ...] = setting((0.89, 0.51), lo=0, hi=1)
@@ -77,6 +77,10 @@ class PersonaliseConfig:
                 raise ConfigError(f"personalise.budget_caps: {name!r} names no searcher (use "
                                   f"{', '.join(SEARCHERS)})")
         for name in self.searchers:
+            if SEARCHERS[name].twins:
+                raise ConfigError(f"personalise.searchers: {name!r} needs candidate twins, "
+                                  "which only the runs with answers as a site gets them give "
+                                  "(use it in measured_searchers)")
             if SEARCHERS[name].answers != "scores":
                 raise ConfigError(f"personalise.searchers: {name!r} is told preferences, and "
                                   "these runs stop at the worker's optimum score (use it in "

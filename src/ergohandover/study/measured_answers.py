@@ -17,6 +17,8 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   ``preferred``, for a searcher told only which of the last two handovers was better
   (:mod:`~..search.pairwise`: the answers' scores compared), the location its own model
   prefers;
+- **a twin fitted to the worker** (:mod:`~..search.fitted_twin`): after the prior's first
+  handovers, the population's other body whose twin explains them best, its optimum proposed;
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
   fitted to twins like the one that answers), the same workers with a modelling choice of the
   sensitivity study changed (gaze, effort, joint preferences: *out-of-model*), whose optimum the
@@ -43,6 +45,7 @@ from ..landscape.grid import Grid
 from ..robustness.posture_error import ErrorModel
 from ..search import Budget, entry, make
 from ..search import run as run_search
+from ..search.fitted_twin import TwinLibrary
 from ..search.measured import MeasuredScores, RatedScores, rater_sd
 from ..search.pairwise import preferred
 from ..search.prior import Prior
@@ -109,6 +112,8 @@ class MeasuredJob:
         answers: how each handover is answered.
         budgets: handovers after which the recommendation is read (the largest is run).
         seeds: one seed per run.
+        candidates: (name, evaluator) of the bodies a fitted twin chooses from (the
+            population's other workers; only for a searcher that needs them).
     """
 
     worker: str
@@ -121,10 +126,13 @@ class MeasuredJob:
     budgets: tuple[int, ...]
     seeds: tuple[int, ...]
     prior: Prior
+    candidates: tuple[tuple[str, Evaluator], ...] = ()
 
 
 _POSTURES: dict[str, dict] = {}
 """Each worker's solved postures by cell, shared by every run on it in this process."""
+_ANGLES: dict[tuple[str, int], np.ndarray] = {}
+"""Candidate twins' solved angles by (candidate, cell), shared by every fitted twin here."""
 
 
 def truth_key(worker: str, twin: str) -> str:
@@ -190,9 +198,15 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
     def source(rng):
         return job.answers.source(job.grid, job.evaluator, job.objective, values, rng, postures)
 
+    twins = None
+    if entry(job.searcher).twins:
+        names = [n for n, _ in job.candidates]
+        evaluators = [e for _, e in job.candidates]
+        twins = TwinLibrary(job.grid, evaluators, lambda i: values_for(
+            names[i], evaluators[i], job.grid, job.objective), names, cache=_ANGLES)
     rows = []
     for run, seed in enumerate(job.seeds):
-        record = run_search(make(job.searcher, job.grid, seed, prior),
+        record = run_search(make(job.searcher, job.grid, seed, prior, twins=twins),
                             source(measurement_rng(seed, job.answers)),
                             Budget(evaluations=max(job.budgets)))
         for budget in sorted(job.budgets):

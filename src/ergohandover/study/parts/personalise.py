@@ -43,6 +43,7 @@ import pandas as pd
 
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
+from ...search.registry import SEARCHERS
 from ...twin.evaluate import Evaluator
 from ..config import StudyConfig
 from ..engines import Engine
@@ -106,6 +107,8 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         evaluators = [Evaluator(body, task) for body in bodies(table)]
         grid = grid_of(evaluators[-1], config.population.boundary, config.population.step)
         chosen = table[table["reference"] == 0].head(part.workers)
+        everyone = [(w, e) for w, e, r in zip(table["worker"], evaluators, table["reference"],
+                                              strict=True) if r == 0]
         evaluators = evaluators[:len(chosen)]
         print(f"  {len(chosen)} workers of the population on {grid.describe()}")
         found = landscapes(engine, evaluators, grid)  # the population's: from the cache
@@ -138,7 +141,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         atomic_write_csv(runs, folder / "runs.csv")
         atomic_write_csv(summary(runs, budgets, part.seed), folder / "summary.csv")
         atomic_write_csv(success_curves(runs, largest), folder / "curves.csv")
-        measured = measured_tables(part, chosen, evaluators, grid, priors, engine)
+        measured = measured_tables(part, chosen, evaluators, grid, priors, engine, everyone)
         for name, table in measured.items():
             atomic_write_csv(table, folder / f"{name}.csv")
         return {"runs": len(runs), "searcher_seconds": {k: round(v, 1)
@@ -151,9 +154,10 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
 
 
 def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid, priors: dict,
-                    engine: Engine) -> dict[str, pd.DataFrame]:
+                    engine: Engine, everyone: list) -> dict[str, pd.DataFrame]:
     """The runs with answers as a site gets them, in and out of model, and their summary (none
-    if the configuration asks for none)."""
+    if the configuration asks for none). ``everyone``: (name, evaluator) of the population's
+    sampled workers, the candidates of a fitted twin (each worker's are the others)."""
     models = answer_models(part.measured_sds, part.measured_iccs)
     if not (part.measured_runs and models and part.measured_searchers):
         return {}
@@ -161,9 +165,15 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     twins += out_of_model(part, chosen, evaluators, grid, engine)
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
+    fitted = any(SEARCHERS[s].twins for s in part.measured_searchers)
+    if fitted:  # every candidate's scores, computed here once for the pool's workers
+        for (name, _), landscape in zip(everyone, landscapes(engine, [e for _, e in everyone],
+                                                             grid), strict=True):
+            prepare_values(name, part.objective, landscape)
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
-                        run_seeds(part.seed, w, part.measured_runs), priors[w])
+                        run_seeds(part.seed, w, part.measured_runs), priors[w],
+                        tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else ())
             for s in searchers for answers in models for w, twin, e in twins]
     print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
           f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
