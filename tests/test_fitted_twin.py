@@ -83,12 +83,73 @@ def test_measured_runs_read_the_fitted_twins_choice_at_every_budget():
         assert row["true_score"] == values(2)[row["cell"]]
 
 
-def test_the_command_and_train_do_not_offer_it_without_candidate_twins():
+def test_train_does_not_offer_it_without_candidate_twins():
     from cli_run import run_cli
 
-    from ergohandover.cli.personalise import registered_searchers
-
-    assert "fitted-twin" not in registered_searchers()
     done = run_cli("train", "--agent", "fitted-twin", "--steps", "5")
     assert done.returncode == 2 and "--agent fitted-twin needs candidate twins" in done.stderr
     assert done.stderr.count("\n") == 1
+
+
+# The command ----------------------------------------------------------------------------------
+
+SMALL = ["--boundary", "-0.1,0.1,1.0,1.2,0.35,0.5", "--step", "0.05"]  # 5 x 5 x 4 cells
+
+
+def zed34_frames() -> list[str]:
+    """The example zed34 frames (the twin taking the box at six locations) as answers."""
+    from pathlib import Path
+
+    from ergohandover.capture import keypoint_format
+    from ergohandover.capture.readers import read_keypoints
+
+    root = Path(__file__).resolve().parents[1] / "examples" / "keypoints"
+    kp = read_keypoints(root / "zed34.npz", keypoint_format("zed34"))
+    return [",".join(repr(float(v)) for v in points.ravel()) for points in kp.points]
+
+
+@pytest.mark.slow  # each candidate body's solver solves its warm-start lattice first
+def test_the_command_fits_a_twin_to_captured_frames_and_resumes_it(tmp_path):
+    import json
+
+    from cli_run import run_cli
+
+    frames = zed34_frames()
+    argv = ["personalise", "--oracle", "ask", "--searcher", "fitted-twin", "--stature", "1.756",
+            "--sex", "male", *SMALL, "--answer-format", "keypoints:zed34", "--trials", "5"]
+    whole = run_cli(*argv, "--output", str(tmp_path / "whole"),
+                    stdin="\n".join(frames[:5]) + "\n")
+    assert whole.returncode == 0, whole.stderr
+    assert "fitted twin: " in whole.stdout
+    saved = json.loads((tmp_path / "whole" / "state.json").read_text())["history"]
+    assert all(h["posture"] is not None for h in saved[:FIT])  # the angles each frame carried
+    # Stopped after two answers, then resumed: the same proposals and the same fit.
+    first = run_cli(*argv, "--output", str(tmp_path / "split"), stdin="\n".join(frames[:2]) + "\n")
+    assert first.returncode == 3, first.stderr
+    again = run_cli(*argv, "--output", str(tmp_path / "split"),
+                    stdin="\n".join(frames[2:5]) + "\n")
+    assert again.returncode == 0, again.stderr
+    cells = [h["cell"] for h in json.loads((tmp_path / "split" / "state.json").read_text())[
+        "history"]]
+    assert cells == [h["cell"] for h in saved]
+    assert [ln for ln in again.stdout.splitlines() if ln.startswith("fitted twin: ")] == \
+        [ln for ln in whole.stdout.splitlines() if ln.startswith("fitted twin: ")]
+
+
+def test_the_command_refuses_the_fitted_twin_without_postures_in_the_answers():
+    from cli_run import run_cli
+
+    done = run_cli("personalise", "--oracle", "ask", "--searcher", "fitted-twin", "--stature",
+                   "1.7", "--sex", "female", *SMALL)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1
+    assert "--searcher fitted-twin needs the worker's posture in every answer" in done.stderr
+
+
+def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
+    from cli_run import run_cli
+
+    done = run_cli("personalise", "--oracle", "twin", "--searcher", "fitted-twin", *SMALL,
+                   "--trials", "4", "--output", str(tmp_path / "t"))
+    assert done.returncode == 0, done.stderr
+    # The twin of the session is the first candidate and its angles fit it exactly.
+    assert "fitted twin: the given worker" in done.stdout

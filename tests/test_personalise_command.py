@@ -279,7 +279,7 @@ def test_what_is_not_an_answer_is_refused_naming_it(line, problem):
 
 def test_scores_infeasible_and_fractions_are_answers():
     reader = AnswerReader("rula")
-    assert reader.read(" 3\n") == (3.0, "score", "3")
+    assert reader.read(" 3\n") == (3.0, "score", "3", None)  # a score carries no posture
     assert reader.read("4.5").score == 4.5  # the mean of two raters
     assert all(math.isinf(reader.read(t).score) for t in ("x", "X", "infeasible"))
 

@@ -61,10 +61,8 @@ def test_every_door_offers_the_registry(capsys):
     assert set(fields["agents"].metadata["choices"]) == set(SEARCHERS)
     fields = {f.name: f for f in dataclasses.fields(PersonaliseConfig)}
     assert set(fields["searchers"].metadata["choices"]) == set(SEARCHERS)
-    # The command offers every ask/tell searcher but those that need candidate twins.
     assert set(registered_searchers()) == {n for n in names("searcher")
-                                           if entry(n).variant_of is None
-                                           and not entry(n).twins}
+                                           if entry(n).variant_of is None}
     assert main(["train", "--agent", "sarsa", "--steps", "5"]) == 2
     assert "--agent sarsa: not one of " + ", ".join(SEARCHERS) in capsys.readouterr().err
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import math
 import sys
 import time
 from pathlib import Path
@@ -160,6 +159,9 @@ def check(args: argparse.Namespace) -> None:
         raise InputError(f"--answers {args.answers}: --searcher {args.searcher} is told "
                          f"{entry(args.searcher).answers} (with --answers pairwise use "
                          f"--searcher {PAIRWISE_SEARCHER}; with scores, another searcher)")
+    if entry(args.searcher).twins and not (args.oracle == "twin" or args.answer_format != "score"):
+        raise InputError(f"--searcher {args.searcher} needs the worker's posture in every answer "
+                         "(--answer-format keypoints:FORMAT, or --oracle twin)")
     if args.answers == "pairwise":
         for flag, dest in (("--answer-format", "answer_format"), ("--target", "target")):
             if dest in flags:
@@ -192,10 +194,10 @@ def check(args: argparse.Namespace) -> None:
 
 def registered_searchers() -> tuple[str, ...]:
     """The registry's ask/tell searchers (a ``+prior`` variant is this command's searcher with
-    its default prior; the fitted twin, which needs candidate twins, runs in the study only)."""
-    from ..search.registry import entry, names
+    its default prior)."""
+    from ..search.registry import names
 
-    return tuple(n for n in names("searcher", variants=False) if not entry(n).twins)
+    return names("searcher", variants=False)
 
 
 def worker_prior(args: argparse.Namespace, evaluator):
@@ -266,6 +268,7 @@ def resolve(args: argparse.Namespace):
     must match; every refusal is one line naming the flags."""
     from ..search import make
     from ..search.answers import SCORE_RANGES
+    from ..search.registry import entry
 
     check(args)
     evaluator = evaluator_from_args(args)
@@ -279,7 +282,12 @@ def resolve(args: argparse.Namespace):
                          f"--objective {args.objective}")
     population, prior = worker_prior(args, evaluator)
     try:
-        searcher = make(args.searcher, grid, args.seed, prior)
+        twins = None
+        if entry(args.searcher).twins and prior is not None:
+            from ..search.fitted_twin import survey_library
+
+            twins = survey_library(evaluator, grid, args.objective, args.seed)
+        searcher = make(args.searcher, grid, args.seed, prior, twins=twins)
     except ConfigError as exc:
         raise InputError(f"--searcher {args.searcher}: {exc}") from None
     # The prior's model, not its prediction: the worker is in "evaluator", and a state read on
@@ -327,8 +335,10 @@ def run(args: argparse.Namespace) -> int:
         tidy(output, session, new_folder)
         raise
     oracle.finish()
+    if getattr(searcher, "chosen", None) is not None:
+        print(f"fitted twin: {searcher.twins.names[searcher.chosen]}", flush=True)
     best = session.best(searcher)
-    sure = uncertainty(args, session, searcher, best)
+    sure = session.uncertainty(best, searcher)
     report(args, session, best, stopped, sure)
     config = {**settings, "prior_location": None if prior is None else list(prior.location)}
     for path in write_outputs(args, session, best, stopped, output, config, started, sure):
@@ -371,20 +381,6 @@ def ending(args, session, stopped: str) -> str:
         return f"{used}: --target {args.target:g} reached"
     return used + {"budget": "", "grid": ": every location of the grid tried",
                    "searcher": ": the searcher proposed only known locations"}[stopped]
-
-
-def uncertainty(args, session, searcher, best) -> dict:
-    """How sure the recommendation is, from what was observed: with preferences, the model's
-    probability that it is the best of the feasible locations tried; with scores, how many of
-    them scored within one point of it (one answer is one measurement: any of them may be as
-    good)."""
-    if best is None:
-        return {}
-    feasible = [t for t in session.trials if math.isfinite(t.score)]
-    if args.answers == "pairwise":
-        return {"p_best_of_tried": searcher.confidence(), "feasible_tried": len(feasible)}
-    close = sum(1 for t in feasible if t is not best and t.score <= best.score + 1)
-    return {"within_1_of_it": close, "feasible_tried": len(feasible)}
 
 
 def report(args, session, best, stopped: str, sure: dict) -> None:

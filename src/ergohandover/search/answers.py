@@ -83,11 +83,14 @@ class Refused(ErgohandoverError, ValueError):
 
 class Answer(NamedTuple):
     """A score (``math.inf``: infeasible), how it was given (score, infeasible, posture, twin)
-    and the answer as given (what the session records)."""
+    and the answer as given (what the session records); ``posture``: the angles behind it, where
+    the answer carried them (a posture row, a captured frame: NaN where unseen; the twin's), for
+    a searcher that fits a twin to them."""
 
     score: float
     kind: str
     text: str
+    posture: dict[str, float] | None = None
 
 
 class AnswerReader:
@@ -172,7 +175,7 @@ class AnswerReader:
         except (InputError, PostureError) as exc:
             raise Refused(str(exc)) from None
         return Answer(float(score_postures(posture, self.scoring)[self.objective][0]),
-                      "posture", text)
+                      "posture", text, angles_of(posture))
 
     def _frame(self, text: str) -> Answer:
         from ..capture import capture, capture_scores
@@ -195,7 +198,9 @@ class AnswerReader:
             raise Refused(str(exc)) from None
         scores = capture_scores(captured, self.scoring)
         low, high = scores[f"{self.objective}_lo"][0], scores[f"{self.objective}_hi"][0]
-        return Answer((low + high) / 2, "keypoints", text)
+        unseen = dict(zip(POSTURE_COLUMNS, captured.unseen[0], strict=True))
+        angles = {a: math.nan if unseen[a] else v for a, v in angles_of(captured.columns).items()}
+        return Answer((low + high) / 2, "keypoints", text, angles)
 
     @staticmethod
     def _header(cells: list[str]) -> tuple[str, ...]:
@@ -207,6 +212,13 @@ class AnswerReader:
         if twice:
             raise Refused(f"a posture header line naming {twice[0]!r} twice")
         return tuple(cells)
+
+
+def angles_of(columns) -> dict[str, float]:
+    """The first row's measured angles (every angle column of the Posture table)."""
+    from ..robustness.posture_error import ANGLE_COLUMNS
+
+    return {a: float(np.asarray(columns[a]).ravel()[0]) for a in ANGLE_COLUMNS}
 
 
 PREFERENCES = {"better": -1.0, "b": -1.0, "worse": 1.0, "w": 1.0, "same": 0.0, "s": 0.0}

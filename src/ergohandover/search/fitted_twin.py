@@ -10,8 +10,8 @@ nearest the prior first), never a cell twice.
 
 "Explains best": the smallest mean squared difference between the angles measured at the
 handovers and the candidate twin's angles at the same locations (every angle column of the
-Posture table; a candidate that could not take the box where the worker did scores
-:data:`MISSING_DEG`² for that handover), when the answers carry the measured posture
+Posture table that was measured; a candidate that could not take the box where the worker did
+scores :data:`MISSING_DEG`² for that handover), when the answers carry the measured posture
 (``last_posture`` of the score source: a posture measured with error, a posture row, a
 captured frame); otherwise — a rater's score — the smallest mean squared difference between the
 answered scores and the candidate's.
@@ -22,11 +22,13 @@ by the body that mimics it best.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..envs.scores import objective_values
 from ..errors import ConfigError
 from ..landscape.grid import Grid
 from ..robustness.posture_error import ANGLE_COLUMNS
@@ -38,6 +40,10 @@ FIT = 3
 """Handovers drawn from the prior before the twin is fitted to them."""
 MISSING_DEG = 90.0
 """The angle difference a candidate is charged, per angle, for a handover it could not take."""
+SURVEY_DRAWS, CANDIDATES = 400, 12
+"""Bodies drawn from the survey's model for a worker's sex, and how many of them (the nearest
+in stature) are a session's candidates (:func:`survey_library`): each candidate's solver first
+solves its warm-start lattice (a second or two), which the person waits for at the fit."""
 
 
 class TwinLibrary:
@@ -100,7 +106,8 @@ def fit(library: TwinLibrary, cells: Sequence[int], scores: Sequence[float],
         predicted = library.angles(cells)  # (candidates, handovers, angles)
         squared = np.where(np.isnan(predicted), MISSING_DEG ** 2,
                            (predicted - measured[None]) ** 2)
-        misfit = squared.mean(axis=(1, 2))
+        seen = np.isfinite(measured)  # an angle the capture did not see is left out
+        misfit = np.where(seen[None], squared, 0.0).sum(axis=(1, 2)) / max(seen.sum(), 1)
     else:
         observed = np.array([scores[k] for k in keep])
         predicted = np.array([library.values(i)[cells] for i in range(len(library))])
@@ -164,3 +171,25 @@ class FittedTwinSearcher(PriorSearcher):
         self.cells.append(cell)
         self.scores.append(score)
         self.postures.append(posture)
+
+
+def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
+                   progress: bool = True) -> TwinLibrary:
+    """A worker's candidate twins for ``ergohandover personalise``: the twin the session was
+    given, and the :data:`CANDIDATES` bodies nearest its stature among :data:`SURVEY_DRAWS`
+    drawn from the survey's body model for its sex (seeded), with its task and settings. A
+    candidate's landscape is swept (or read from the cache) only when the fit chooses it."""
+    from ..landscape.store import landscape_of
+    from ..twin.anthropometry import BodySpec
+
+    body = evaluator.body
+    drawn = BodySpec.sample(SURVEY_DRAWS, body.sex, np.random.default_rng([seed, SURVEY_DRAWS]))
+    near = sorted(drawn, key=lambda b: abs(b.stature_m - body.stature_m))[:CANDIDATES]
+    evaluators = [evaluator, *(dataclasses.replace(evaluator, body=b) for b in near)]
+    names = ["the given worker", *(f"survey body {i + 1} ({b.stature_m:.3f} m)"
+                                   for i, b in enumerate(near))]
+
+    def values(i: int) -> np.ndarray:
+        return objective_values(landscape_of(evaluators[i], grid, progress=progress), objective)
+
+    return TwinLibrary(grid, evaluators, values, names)

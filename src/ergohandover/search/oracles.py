@@ -77,7 +77,17 @@ class TwinOracle(Oracle):
         score = self.scores.score(proposal.cell)
         shown = f"{score:g}" if math.isfinite(score) else "x (the twin cannot take the box there)"
         print(f"twin: {shown}", file=self.output, flush=True)
-        return Answer(score, "twin", "twin")
+        return Answer(score, "twin", "twin", self.angles(proposal.cell) if math.isfinite(score)
+                      else None)
+
+    def angles(self, cell: int) -> dict[str, float]:
+        """The twin's angles at ``cell`` (what a captured frame of it would measure)."""
+        from ..robustness.posture_error import ANGLE_COLUMNS
+        from ..twin.evaluate import evaluate_arrays
+
+        found = evaluate_arrays(self.scores.grid.coordinates([cell]), self.scores.evaluator,
+                                columns=ANGLE_COLUMNS)
+        return {a: float(found[a][0]) for a in ANGLE_COLUMNS}
 
 
 class ComparingTwin(TwinOracle):

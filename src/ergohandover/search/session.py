@@ -63,7 +63,8 @@ class StateMismatch(ErgohandoverError, ValueError):
 @dataclass(frozen=True)
 class Trial:
     """One handover of the session: its number, the ``cell`` and its ``location`` [m], the
-    ``score`` (``inf``: infeasible), the answer as given and when [ISO 8601, UTC]."""
+    ``score`` (``inf``: infeasible), the answer as given and when [ISO 8601, UTC], and the
+    angles the answer carried (None: none; NaN: unseen), which a fitted twin is fitted to."""
 
     trial: int
     cell: int
@@ -71,19 +72,27 @@ class Trial:
     score: float
     answer: str
     answered_at: str
+    posture: dict[str, float] | None = None
 
     def to_json(self) -> dict:
         x, y, z = self.location
-        return {"trial": self.trial, "cell": self.cell, "x": x, "y": y, "z": z,
-                "score": self.score if math.isfinite(self.score) else None,
-                "answer": self.answer, "answered_at": self.answered_at}
+        found = {"trial": self.trial, "cell": self.cell, "x": x, "y": y, "z": z,
+                 "score": self.score if math.isfinite(self.score) else None,
+                 "answer": self.answer, "answered_at": self.answered_at}
+        if self.posture is not None:  # JSON has no NaN: an unseen angle is null
+            found["posture"] = {a: v if math.isfinite(v) else None
+                                for a, v in self.posture.items()}
+        return found
 
     @classmethod
     def from_json(cls, data: dict) -> Trial:
         score = math.inf if data["score"] is None else float(data["score"])
+        posture = data.get("posture")
+        if posture is not None:
+            posture = {a: math.nan if v is None else float(v) for a, v in posture.items()}
         return cls(int(data["trial"]), int(data["cell"]),
                    (float(data["x"]), float(data["y"]), float(data["z"])), score,
-                   str(data["answer"]), str(data["answered_at"]))
+                   str(data["answer"]), str(data["answered_at"]), posture)
 
 
 def as_json(value: Any) -> Any:
@@ -159,8 +168,24 @@ class Session:
         feasible = [r for r in self.trials if math.isfinite(r.score)]
         return min(feasible, key=lambda r: r.score) if feasible else None
 
+    def uncertainty(self, best: Trial | None, searcher: AskTellSearcher) -> dict:
+        """How sure the recommendation ``best`` is, from what was observed: of a searcher told
+        preferences, its model's probability that ``best`` is the best of the feasible
+        locations tried; else how many of them scored within one point of it (one answer is
+        one measurement: any of them may be as good)."""
+        if best is None:
+            return {}
+        feasible = [t for t in self.trials if math.isfinite(t.score)]
+        if searcher.answers == "preferences":
+            return {"p_best_of_tried": searcher.confidence(), "feasible_tried": len(feasible)}
+        close = sum(1 for t in feasible if t is not best and t.score <= best.score + 1)
+        return {"within_1_of_it": close, "feasible_tried": len(feasible)}
+
     def resume(self, searcher: AskTellSearcher) -> AskTellSearcher:
-        """``searcher`` told this session's history, as it was told the first time."""
+        """``searcher`` told this session's history, as it was told the first time (a
+        searcher that fits a twin also the angles each answer carried)."""
+        if hasattr(searcher, "known_postures"):
+            searcher.known_postures = [r.posture for r in self.history]
         return replay(searcher, [(r.cell, r.score) for r in self.history])
 
     def add(self, record: Trial) -> None:
@@ -213,8 +238,9 @@ class AnsweredScores(ScoreSource):
         self.say(proposal.describe())
         answer = self.oracle.answer(proposal)
         self.session.posture_header = self.oracle.header
+        self.last_posture = answer.posture
         self.session.add(Trial(proposal.trial, flat, location, answer.score, answer.text,
-                               now()))
+                               now(), answer.posture))
         return answer.score
 
 
