@@ -18,7 +18,7 @@ NAMES = {"random-order": "random order", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
          "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
          "randomwalk": "a random walk", "sac": "Soft Actor-Critic",
-         "pairwise": "pairwise preferences (GP)"}
+         "pairwise": "pairwise preferences (GP)", "fitted-twin": "the fitted twin"}
 
 
 def label(searcher: str) -> str:
@@ -53,13 +53,15 @@ def best_searcher(summary: pd.DataFrame) -> str:
 
 
 def command_default(measured: pd.DataFrame) -> str:
-    """``ergohandover personalise``'s default: of the ask/tell searchers told scores, whose
-    recommendation is the lowest answer (the command's rule), the one whose recommendation is
+    """``ergohandover personalise``'s default: of the ask/tell searchers told scores that work
+    with any answer (not the fitted twin, which needs postures), whose recommendation is the
+    lowest answer (the command's rule), the one whose recommendation is
     most often a true optimum in model at the equal budget, on average over the answer models
     (over all of them, not the one where it did best: a choice on more runs)."""
     rows = measured[(measured["rule"] == "lowest") & (measured["model"] == "in-model")
                     & (measured["budget"] == equal_budget(measured))
-                    & measured["searcher"].map(lambda s: SEARCHERS[s].kind == "searcher")]
+                    & measured["searcher"].map(lambda s: SEARCHERS[s].kind == "searcher"
+                                               and not SEARCHERS[s].twins)]
     return str(rows.groupby("searcher")["p_regret_0"].mean().idxmax())
 
 
