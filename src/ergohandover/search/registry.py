@@ -83,24 +83,17 @@ class Entry:
         return self.kind == "learner"
 
 
-def with_prior_variant(name: str, label: str, make: str,
-                       answers: str = "scores") -> tuple[Entry, Entry]:
-    """An ask/tell searcher and its entry always warm-started by the worker's prior."""
-    return (Entry(name, label, "searcher", make, prior="optional", answers=answers),
-            Entry(f"{name}+prior", f"{label} + prior", "searcher", make, prior="needs",
-                  variant_of=name, answers=answers))
-
-
-def started_at_prior(agent: Entry) -> tuple[Entry, Entry]:
-    """An agent of the environment that takes a prior, and its entry always given the
-    worker's prior: every episode then starts at the prior's cell (:mod:`.env_agent`)."""
-    return (replace(agent, prior="optional"),
-            replace(agent, name=f"{agent.name}+prior", label=f"{agent.label} + prior",
-                    prior="needs", variant_of=agent.name))
+def with_prior_variant(base: Entry) -> tuple[Entry, Entry]:
+    """An entry that takes a prior, and its entry always given the worker's prior
+    (``X+prior``): an ask/tell searcher starts from it, an agent of the environment starts
+    every episode at its cell (:mod:`.env_agent`)."""
+    return (replace(base, prior="optional"),
+            replace(base, name=f"{base.name}+prior", label=f"{base.label} + prior",
+                    prior="needs", variant_of=base.name))
 
 
 SEARCHERS: dict[str, Entry] = {e.name: e for e in (
-    *started_at_prior(Entry("qlearning", "Q-learning (τ 0.7)", "learner",
+    *with_prior_variant(Entry("qlearning", "Q-learning (τ 0.7)", "learner",
                             ".qlearning:run_qlearning", config=".qlearning:QLearningConfig",
                             options={"temperature": "fixed"}, policy="table")),
     Entry("qlearning-adaptive", "Q-learning (adaptive τ)", "learner", ".qlearning:run_qlearning",
@@ -108,20 +101,21 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
           policy="table"),
     Entry("dqn", "DQN", "learner", ".dqn:run_dqn", config=".dqn:DQNConfig",
           observation="position", policy="network"),
-    *started_at_prior(Entry("sac", "SAC", "learner", ".sac:run_sac", config=".sac:SACConfig",
+    *with_prior_variant(Entry("sac", "SAC", "learner", ".sac:run_sac", config=".sac:SACConfig",
                             observation="continuous", policy="actor")),
-    *started_at_prior(Entry("randomwalk", "random walk", "walk", ".walks:run_randomwalk",
+    *with_prior_variant(Entry("randomwalk", "random walk", "walk", ".walks:run_randomwalk",
                             config=".walks:WalkConfig", policy="random")),
     Entry("random-draws", "random draws", "walk", ".walks:run_random_draws"),
     Entry("hillclimb", "hill-climbing", "walk", ".walks:run_hillclimb"),
     Entry("random-order", "random order", "searcher", ".random_order:RandomOrderSearcher"),
     Entry("prior", "population prior", "searcher", ".prior_search:PriorSearcher", prior="needs"),
-    *with_prior_variant("bo", "Bayesian optimisation (GP)", ".optuna_searchers:GPSearcher"),
-    *with_prior_variant("tpe", "TPE", ".optuna_searchers:TPESearcher"),
-    *with_prior_variant("cmaes", "CMA-ES", ".cmaes_search:CMAESSearcher"),
-    *with_prior_variant("pso", "particle swarm", ".pso:PSOSearcher"),
-    *with_prior_variant("pairwise", "pairwise preferences (GP)", ".pairwise:PairwiseSearcher",
-                        answers="preferences"),
+    *with_prior_variant(Entry("bo", "Bayesian optimisation (GP)", "searcher",
+                              ".optuna_searchers:GPSearcher")),
+    *with_prior_variant(Entry("tpe", "TPE", "searcher", ".optuna_searchers:TPESearcher")),
+    *with_prior_variant(Entry("cmaes", "CMA-ES", "searcher", ".cmaes_search:CMAESSearcher")),
+    *with_prior_variant(Entry("pso", "particle swarm", "searcher", ".pso:PSOSearcher")),
+    *with_prior_variant(Entry("pairwise", "pairwise preferences (GP)", "searcher",
+                              ".pairwise:PairwiseSearcher", answers="preferences")),
     Entry("fitted-twin", "fitted twin", "searcher", ".fitted_twin:FittedTwinSearcher",
           prior="needs", twins=True),
 )}
