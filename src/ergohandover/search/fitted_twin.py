@@ -134,11 +134,19 @@ class FittedTwinSearcher(PriorSearcher):
         self.twins = twins
         self.source = None  # the score source, whose last_posture each answer carries
         self.known_postures: list[dict[str, float] | None] = []  # a resumed session's
-        self.cells: list[int] = []
-        self.scores: list[float] = []
-        self.postures: list[dict[str, float] | None] = []
+        self.postures: list[dict[str, float] | None] = []  # the angles each answer carried
         self.chosen: int | None = None
         self._order: list[int] = []
+
+    @property
+    def cells(self) -> list[int]:
+        """The cells it was told about, in order."""
+        return list(self.told)
+
+    @property
+    def scores(self) -> list[float]:
+        """Their answers, in order."""
+        return list(self.told.values())
 
     def search(self, evaluations) -> dict:
         self.source = evaluations.source
@@ -165,12 +173,9 @@ class FittedTwinSearcher(PriorSearcher):
         return order[::-1].tolist()
 
     def _learn(self, cell: int, score: float) -> None:
-        k = len(self.cells)
-        posture = (self.known_postures[k] if k < len(self.known_postures)
-                   else getattr(self.source, "last_posture", None))
-        self.cells.append(cell)
-        self.scores.append(score)
-        self.postures.append(posture)
+        k = len(self.postures)
+        self.postures.append(self.known_postures[k] if k < len(self.known_postures)
+                             else getattr(self.source, "last_posture", None))
 
 
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,

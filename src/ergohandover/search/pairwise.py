@@ -38,7 +38,7 @@ from .preferences import BETTER, SAME, WORSE, PreferenceScores, comparisons
 from .prior import Prior
 
 __all__ = ["BETTER", "SAME", "WORSE", "PairwiseSearcher", "PreferenceModel", "PreferenceScores",
-           "comparisons", "preferred"]
+           "comparisons", "model_of", "most_preferred", "preferred"]
 
 LENGTH_M = 0.03
 """The kernel's length scale [m]: how far apart two locations still feel alike."""
@@ -93,18 +93,29 @@ class PreferenceModel:
         return mean, cov
 
 
-def preferred(grid: Grid, cells: Sequence[int], answers: Sequence[float]) -> int | None:
-    """The index (into ``cells``) of the feasible handover with the highest posterior mean
-    goodness (the first of equals); the first feasible one before any comparison; None if
-    none was feasible."""
+def model_of(grid: Grid, cells: Sequence[int],
+             answers: Sequence[float]) -> PreferenceModel | None:
+    """The preference model of the answers at ``cells`` (None before any comparison)."""
+    pairs = comparisons(answers)
+    return PreferenceModel(grid.coordinates(list(cells)), pairs) if pairs else None
+
+
+def most_preferred(model: PreferenceModel | None, answers: Sequence[float]) -> int | None:
+    """The index of the feasible handover with the highest posterior mean goodness under
+    ``model`` (the first of equals); the first feasible one without a model; None if none was
+    feasible."""
     feasible = [i for i, a in enumerate(answers) if math.isfinite(a)]
     if not feasible:
         return None
-    pairs = comparisons(answers)
-    if not pairs:
+    if model is None:
         return feasible[0]
-    model = PreferenceModel(grid.coordinates(list(cells)), pairs)
     return feasible[int(np.argmax(model.f[feasible]))]
+
+
+def preferred(grid: Grid, cells: Sequence[int], answers: Sequence[float]) -> int | None:
+    """The index (into ``cells``) of the handover the model of the answers prefers
+    (:func:`most_preferred`)."""
+    return most_preferred(model_of(grid, cells, answers), answers)
 
 
 class PairwiseSearcher(NewCellSearcher):
@@ -116,13 +127,21 @@ class PairwiseSearcher(NewCellSearcher):
     def __init__(self, grid: Grid, seed: int, prior: Prior | None = None):
         super().__init__(grid, seed, prior)
         self._rng = np.random.default_rng(self.seed)
-        self.cells: list[int] = []
-        self.answers_told: list[float] = []
         if prior is None:
             self._centre, self._sd = (self.shape - 1) / 2, self.shape / 4
         else:
             self._centre, self._sd = prior_point(grid, prior)
             self._sd = np.maximum(self._sd, 1.0)
+
+    @property
+    def cells(self) -> list[int]:
+        """The cells it was told about, in order."""
+        return list(self.told)
+
+    @property
+    def answers_told(self) -> list[float]:
+        """Their answers, in order (the model is refitted to them at every proposal)."""
+        return list(self.told.values())
 
     def recommend(self) -> int | None:
         """The cell it would recommend now (:func:`preferred`)."""
@@ -133,25 +152,27 @@ class PairwiseSearcher(NewCellSearcher):
         """The model's probability that :meth:`recommend`'s location is the best of the
         feasible ones seen (Monte Carlo over its posterior, seeded); None before any
         comparison."""
-        feasible = [i for i, a in enumerate(self.answers_told) if math.isfinite(a)]
-        pairs = comparisons(self.answers_told)
-        if not pairs or not feasible:
+        answers = self.answers_told
+        feasible = [i for i, a in enumerate(answers) if math.isfinite(a)]
+        model = model_of(self.grid, self.cells, answers)
+        if model is None or not feasible:
             return None
-        model = PreferenceModel(self.grid.coordinates(self.cells), pairs)
         mean, cov = model.posterior(self.grid.coordinates([self.cells[i] for i in feasible]))
         values, vectors = np.linalg.eigh((cov + cov.T) / 2)
         noise = np.random.default_rng(self.seed).standard_normal((draws, len(feasible)))
         samples = mean + (noise * np.sqrt(np.clip(values, 0, None))) @ vectors.T
-        best = feasible.index(preferred(self.grid, self.cells, self.answers_told))
+        best = feasible.index(most_preferred(model, answers))
         return float((samples.argmax(axis=1) == best).mean())
 
     def _propose(self) -> int:
-        if not self.cells:
+        if not self.told:
             first = (self.snap(self._centre) if self.prior is not None
                      else int(self._rng.integers(self.grid.size)))
             return first
-        best = self.recommend()
-        around = self.index(best) if best is not None else self._centre
+        told, answers = self.cells, self.answers_told
+        model = model_of(self.grid, told, answers)  # one fit serves the choice and the draw
+        best = most_preferred(model, answers)
+        around = self.index(told[best]) if best is not None else self._centre
         points = np.concatenate([
             self._rng.normal(self._centre, self._sd, (CANDIDATES, 3)),
             self._rng.normal(around, np.maximum(self._sd / 2, 1.0), (CANDIDATES, 3))])
@@ -159,11 +180,9 @@ class PairwiseSearcher(NewCellSearcher):
         cells = np.unique(np.ravel_multi_index(tuple(index.T), self.grid.shape))
         cells = np.array([c for c in cells.tolist() if c not in self.told], dtype=int)
         if cells.size == 0:
-            return self.nearest_new(self.index(self.cells[-1]))
-        pairs = comparisons(self.answers_told)
-        if not pairs:
+            return self.nearest_new(self.index(told[-1]))
+        if model is None:
             return int(self._rng.choice(cells))
-        model = PreferenceModel(self.grid.coordinates(self.cells), pairs)
         mean, cov = model.posterior(self.grid.coordinates(cells))
         values, vectors = np.linalg.eigh((cov + cov.T) / 2)
         draw = mean + vectors @ (np.sqrt(np.clip(values, 0, None))
@@ -171,5 +190,4 @@ class PairwiseSearcher(NewCellSearcher):
         return int(cells[int(np.argmax(draw))])
 
     def _learn(self, cell: int, score: float) -> None:
-        self.cells.append(cell)
-        self.answers_told.append(score)
+        """Nothing to update: the model is fitted to everything told at the next proposal."""
