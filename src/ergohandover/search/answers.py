@@ -118,6 +118,10 @@ class AnswerReader:
         self.keypoints = None if keypoints is None else frame_format(keypoints, objective)
         self.task = task or {}
 
+    def begin(self, previous: tuple | None) -> None:
+        """A score does not depend on the handover before it (:class:`PreferenceReader`'s
+        does)."""
+
     @property
     def prompt(self) -> str:
         if self.keypoints:
@@ -234,10 +238,11 @@ class PreferenceReader:
     header = None
 
     def __init__(self):
-        self.previous: tuple[int, tuple[float, float, float]] | None = None
+        self.previous: tuple | None = None
 
-    def begin(self, previous: tuple[int, tuple[float, float, float]] | None) -> None:
-        """The trial and location this proposal is compared with (None: nothing before)."""
+    def begin(self, previous: tuple | None) -> None:
+        """The trial this proposal is compared with: ``Proposal.previous`` (number, cell,
+        location; None: nothing before)."""
         self.previous = previous
 
     @property

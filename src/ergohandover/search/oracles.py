@@ -129,7 +129,7 @@ class AskOracle(Oracle):
         return self.reader.header
 
     def answer(self, proposal: Proposal) -> Answer:
-        begin(self.reader, proposal)
+        self.reader.begin(proposal.previous)
         while True:
             self.output.write(self.reader.prompt)
             self.output.flush()
@@ -142,13 +142,6 @@ class AskOracle(Oracle):
             answer = read_or_refuse(self.reader, line, self.errors)
             if answer is not None:
                 return answer
-
-
-def begin(reader, proposal: Proposal) -> None:
-    """Tell a preference reader what the proposal is compared with."""
-    if hasattr(reader, "begin"):
-        previous = proposal.previous
-        reader.begin(None if previous is None else (previous[0], previous[2]))
 
 
 def read_or_refuse(reader: AnswerReader, line: str, errors: IO[str]) -> Answer | None:
@@ -201,7 +194,7 @@ class FileOracle(Oracle):
         text = f"trial,x,y,z\n{proposal.trial},{x:.6g},{y:.6g},{z:.6g}\n"
         self.proposal_file.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(self.proposal_file, lambda handle: handle.write(text))
-        begin(self.reader, proposal)
+        self.reader.begin(proposal.previous)
         waiting = False
         while True:
             self._read_new_lines()
