@@ -165,10 +165,12 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     twins += out_of_model(part, chosen, evaluators, grid, engine)
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
-    fitted = any(SEARCHERS[s].twins for s in part.measured_searchers)
-    if fitted:  # every candidate's scores, computed here once for the pool's workers
-        for (name, _), landscape in zip(everyone, landscapes(engine, [e for _, e in everyone],
-                                                             grid), strict=True):
+    if any(SEARCHERS[s].twins for s in part.measured_searchers):
+        # Every candidate's scores, computed here once for the pool's workers (the chosen
+        # workers' are, in worker_table).
+        others = [(n, e) for n, e in everyone if n not in set(chosen["worker"])]
+        for (name, _), landscape in zip(others, landscapes(engine, [e for _, e in others],
+                                                           grid), strict=True):
             prepare_values(name, part.objective, landscape)
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
