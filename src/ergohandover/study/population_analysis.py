@@ -22,6 +22,7 @@ from .population import (
     who_pays,
     working_heights,
 )
+from .who_pays import tests, with_holm
 
 OBJECTIVES = ("paper_postural", "reba", "rula")
 """The scores each worker's optimum and penalties are read for."""
@@ -38,11 +39,12 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
     sampled = table["reference"].to_numpy() == 0
     reference = int(np.flatnonzero(~sampled)[0])
     workers = table[sampled].reset_index(drop=True)
-    penalties, one_size, proportions = [], [], []
+    penalties, one_size, proportions, who_pays_tests = [], [], [], []
     predictors = {"stature_m": workers["stature_m"].to_numpy(float),
                   "male": (workers["sex"].to_numpy() == "male").astype(float),
                   "elbow_ratio": workers["elbow_ratio"].to_numpy(float),
                   "arm_ratio": workers["arm_ratio"].to_numpy(float)}
+    proportion_terms = {k: predictors[k] for k in ("elbow_ratio", "arm_ratio")}
     for objective in OBJECTIVES:
         scores = matrices[objective][sampled].astype(float)
         scores[scores < 0] = np.nan
@@ -62,6 +64,11 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
                     "own_optimum": own[w], "penalty": penalty[w]})
             proportions += [{"objective": objective, "choice": choice, **row}
                             for row in penalty_regression(penalty, predictors)]
+            if cell not in [cells[c] for c in CHOICES[:CHOICES.index(choice)]]:
+                # A location chosen twice is one test, not two (the family counts locations).
+                who_pays_tests += [{"objective": objective, "choice": choice, **row}
+                                   for row in tests(penalty, predictors["stature_m"],
+                                                    predictors["male"], proportion_terms)]
             taken = ~np.isnan(penalty)
             rho, p = stats.spearmanr(workers["stature_m"][taken], penalty[taken]) \
                 if np.ptp(penalty[taken]) > 0 else (np.nan, np.nan)
@@ -102,4 +109,5 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
     return {"workers": table, "penalties": penalty_table, "one_size": pd.DataFrame(one_size),
             "groups": who_pays(penalty_table, rng, resamples), "height_fit": fits,
             "working_heights": working_heights(below_elbow_cm.to_numpy(dtype=float)),
-            "proportions": pd.DataFrame(proportions)}
+            "proportions": pd.DataFrame(proportions),
+            "who_pays_tests": with_holm(pd.DataFrame(who_pays_tests))}

@@ -23,7 +23,11 @@ Writes results/population/:
                   standing working height below the elbow (the validation's sources)
   proportions.csv  penalty at each one-size location against stature, sex and proportions
                   (elbow height / stature, arm length / stature): least squares, each term's
-                  coefficient, 95 % interval and p-value
+                  coefficient, 95 % interval and p-value (the fit reported before the plan)
+  who_pays_tests.csv  the pre-specified "who pays" tests (docs/population.md#the-analysis-plan):
+                  per score and distinct one-size location, sex beyond body size and stature,
+                  under the plan's model (stature as a spline, HC3 errors) and the three it
+                  departs from; Holm-adjusted p over the plan's family
   fixed_ratio_twin.csv  the reference worker's optimum per objective sized by the survey's body
                   model and by the fixed-ratio twin's fixed ratios of stature
   manifest.json
