@@ -20,7 +20,7 @@ from ..ergonomics import Posture
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..landscape import Landscape
 from ..landscape.grid import Grid
-from ..landscape.stats import at_minimum, most_symmetric
+from ..landscape.stats import at_minimum, minimum, most_symmetric
 from ..twin.evaluate import Evaluator, evaluate_arrays
 from .margins import smallest_margin
 from .posture_error import ErrorModel, expected_scores
@@ -78,7 +78,8 @@ def _choose(grid: Grid, cells: np.ndarray, value: np.ndarray, nominal: np.ndarra
 def robust_optimum(landscape: Landscape, evaluator: Evaluator, model: ErrorModel,
                    score: str, draws: int, seed: int, stride: int = 3,
                    screen_draws: int = 128, keep: int = 32, radius: int = 2,
-                   workers: int = 1, include: np.ndarray | None = None) -> Search:
+                   workers: int = 1, include: np.ndarray | None = None,
+                   tolerance: float | None = None) -> Search:
     """The cell of lowest expected ``score`` under posture error ``model``.
 
     Args:
@@ -94,11 +95,18 @@ def robust_optimum(landscape: Landscape, evaluator: Evaluator, model: ErrorModel
         workers: processes evaluating the twin.
         include: cells whose neighbourhoods the fine search also covers (the nominal
             optimum's, so that the robust optimum is never worse than it in expectation).
+        tolerance: when given, only cells whose error-free ``score`` is within ``tolerance``
+            of the landscape's minimum are candidates (0: the optimum's own cells), so that
+            what measures best is not paid for by the worker's actual posture.
     """
-    grid, feasible = landscape.grid, landscape.feasible
+    grid, feasible = landscape.grid, landscape.feasible.copy()
+    if tolerance is not None:
+        feasible &= landscape.arrays[score] <= minimum(landscape, score) + tolerance
     screen_seed, fine_seed = np.random.SeedSequence(seed).generate_state(2)
     cells = coarse_cells(grid, stride)
     cells = cells[feasible[cells]]
+    if cells.size == 0:  # the candidates lie between the coarse cells: screen all of them
+        cells = np.flatnonzero(feasible)
     posture, ok = postures_at(grid.coordinates(cells), evaluator, workers)
     expected = np.where(ok, expected_scores(posture, model, screen_draws, int(screen_seed),
                                             score, evaluator.scoring), np.inf)

@@ -229,6 +229,9 @@ class RobustnessConfig:
     seed: int = setting(11, lo=0)
     angle_sds: tuple[float, ...] = setting((0.0, 1.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     robust_sd: float = setting(5.0, positive=True, unit="deg")
+    # How far above the error-free optimum a location may score and still be a candidate for
+    # the robust location "among optima" (the one that does not trade the worker's posture).
+    robust_tolerance: int = setting(0, lo=0)
     structure: str = setting("independent", choices=("independent", "bilateral"))
     placement_radii_cm: tuple[float, ...] = setting((0.57, 1.0, 2.0, 5.0), positive=True,
                                                     unit="cm")

@@ -64,14 +64,17 @@ def search_seed(part: RobustnessConfig) -> int:
 
 def robust_recommendation(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
                           seed: int, draws: int, stride: int, keep: int, radius: int,
-                          workers: int = 1) -> tuple[np.ndarray, Search]:
+                          workers: int = 1, tolerance: float | None = None) -> tuple[
+                              np.ndarray, Search]:
     """A worker's nominal optimum of :data:`ROBUST_SCORE` (the landscape's) and robust optimum
     at ``part.robust_sd`` of posture error, searched around the nominal one too (so that it is
-    never worse in expectation); the search's settings as in :func:`robust_optimum`."""
+    never worse in expectation); the search's settings as in :func:`robust_optimum`, which
+    ``tolerance`` restricts to cells within it of the error-free optimum."""
     nominal = optimum(landscape, ROBUST_SCORE)[1]
     robust = robust_optimum(landscape, evaluator, ErrorModel(part.robust_sd, part.structure),
                             ROBUST_SCORE, draws, seed, stride, part.screen_draws, keep,
-                            radius, workers, include=[landscape.grid.nearest_cell(nominal)])
+                            radius, workers, include=[landscape.grid.nearest_cell(nominal)],
+                            tolerance=tolerance)
     return nominal, robust
 
 
@@ -100,21 +103,27 @@ def recommendations(landscape: Landscape, evaluator: Evaluator, part: Robustness
 def robust_pair(landscape: Landscape, evaluator: Evaluator, part: RobustnessConfig,
                 stride: int, seed: int) -> dict:
     """A worker's nominal and robust locations (a quick search: ``part.worker_draws``, the 8
-    best screened cells, 1 cell around), with both expected scores under the robust SD
-    measured with the same errors: a row of personal.csv."""
-    nominal, robust = robust_recommendation(landscape, evaluator, part, seed,
-                                            part.worker_draws, stride, keep=8, radius=1)
-    posture, _ = postures_at(np.stack([nominal, robust.location]), evaluator)
+    best screened cells, 1 cell around) and the robust location among the cells within
+    ``part.robust_tolerance`` of the error-free optimum, with the three expected scores under
+    the robust SD measured with the same errors: a row of personal.csv."""
+    found = {"robust": None, "among_optima": part.robust_tolerance}
+    for name, tolerance in found.items():
+        found[name] = robust_recommendation(landscape, evaluator, part, seed,
+                                            part.worker_draws, stride, keep=8, radius=1,
+                                            tolerance=tolerance)[1].location
+    nominal = optimum(landscape, ROBUST_SCORE)[1]
+    posture, _ = postures_at(np.stack([nominal, *found.values()]), evaluator)
     expected = expected_scores(posture, ErrorModel(part.robust_sd, part.structure),
                                part.worker_draws, seed, settings=evaluator.scoring)
-    robust_score = landscape.arrays[ROBUST_SCORE][landscape.grid.nearest_cell(robust.location)]
-    return {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
-            "nominal_score": minimum(landscape, ROBUST_SCORE),
-            "nominal_expected": expected[0],
-            **{f"robust_{a}": round(float(v), 6)
-               for a, v in zip("xyz", robust.location, strict=True)},
-            "robust_score": int(robust_score), "robust_expected": expected[1],
-            "angle_sd_deg": part.robust_sd, "draws": part.worker_draws}
+    row = {**{f"nominal_{a}": round(float(v), 6) for a, v in zip("xyz", nominal, strict=True)},
+           "nominal_score": minimum(landscape, ROBUST_SCORE), "nominal_expected": expected[0]}
+    for k, (name, location) in enumerate(found.items(), start=1):
+        score = landscape.arrays[ROBUST_SCORE][landscape.grid.nearest_cell(location)]
+        row |= {**{f"{name}_{a}": round(float(v), 6)
+                   for a, v in zip("xyz", location, strict=True)},
+                f"{name}_score": int(score), f"{name}_expected": expected[k]}
+    return row | {"angle_sd_deg": part.robust_sd, "tolerance": part.robust_tolerance,
+                  "draws": part.worker_draws}
 
 
 def difference(a: np.ndarray, b: np.ndarray) -> dict:
@@ -188,18 +197,25 @@ def penalty_at(scores: np.ndarray, own: np.ndarray, cell: int) -> np.ndarray:
 def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
                      reference_cell: int, rng: np.random.Generator, resamples: int,
                      splits: int) -> list[dict]:
-    """Each one-size choice's mean penalty three ways: in sample (chosen and scored on every
+    """Each one-size choice's mean penalty four ways: in sample (chosen and scored on every
     worker, as the population part reports it); re-chosen inside every bootstrap resample of
-    the workers; chosen on a random half and scored on the other half (``splits`` times)."""
+    the workers and scored on that resample (optimistic: chosen and scored on the same
+    workers) and on the workers the resample left out (out of bag: never on a worker it was
+    chosen on); chosen on a random half and scored on the other half (``splits`` times)."""
     w = scores.shape[0]
     chosen = one_size_cells(scores, points, reference_cell)
     resampler = OneSizeResampler(scores, points, reference_cell)
     boot = {c: np.empty(resamples) for c in CHOICES}
+    out_of_bag = {c: np.empty(resamples) for c in CHOICES}
     for b in range(resamples):
         pick = rng.integers(w, size=w)
-        cells = resampler.cells(np.bincount(pick, minlength=w))
+        counts = np.bincount(pick, minlength=w)
+        cells = resampler.cells(counts)
         for c in CHOICES:
-            boot[c][b] = np.nanmean(penalty_at(scores, own, cells[c])[pick])
+            penalty = penalty_at(scores, own, cells[c])
+            boot[c][b] = np.nanmean(penalty[pick])
+            left_out = penalty[counts == 0]  # none, rarely, with very few workers
+            out_of_bag[c][b] = np.nanmean(left_out) if left_out.size else np.nan
     held_out = {c: np.empty(splits) for c in CHOICES}
     in_half = {c: np.empty(splits) for c in CHOICES}
     for s in range(splits):
@@ -218,6 +234,9 @@ def without_optimism(scores: np.ndarray, own: np.ndarray, points: np.ndarray,
             "rechosen_mean_penalty": float(boot[c].mean()),
             "rechosen_ci_low": float(np.quantile(boot[c], 0.025)),
             "rechosen_ci_high": float(np.quantile(boot[c], 0.975)),
+            "out_of_bag_mean_penalty": float(np.nanmean(out_of_bag[c])),
+            "out_of_bag_ci_low": float(np.nanquantile(out_of_bag[c], 0.025)),
+            "out_of_bag_ci_high": float(np.nanquantile(out_of_bag[c], 0.975)),
             "split_half_held_out": float(held_out[c].mean()),
             "split_half_held_out_q025": float(np.quantile(held_out[c], 0.025)),
             "split_half_held_out_q975": float(np.quantile(held_out[c], 0.975)),

@@ -18,9 +18,14 @@ Writes results/robustness/:
   regret.csv, regret_summary.csv   the recommendation's regret per variant and worker
   one_size.csv, penalty_regression.csv   the one-size choices without optimism; penalty on
                      stature and sex together
-  personal.csv       each participant's and worker's nominal and robust location
+  personal.csv       each participant's and worker's nominal and robust location, and the
+                     robust location among cells at the error-free optimum (the trade)
   practice_carries.csv   the robot's carry of the box to the practice location from each of the
                      paper's starts (the baselines' columns)
+  measured_locations.csv, measured_flips.csv, measured_comparisons.csv   the same under the
+                     error measured for an IMU system (per-joint bias and SD, correlated within a
+                     segment and between sides; robustness.measured_error) and its variants
+  measured_error.csv the measured model's bias and SD per angle and where each comes from
   expected_landscape.csv   the screened expected paper score in the plane x = 0 (for the figure)
   manifest.json
 """
@@ -35,6 +40,7 @@ from tqdm import tqdm
 
 from ...io.atomic import atomic_write_csv
 from ...robustness.margins import margin_table
+from ...robustness.measured_error import MEASURED_ERROR, MEASURED_VARIANTS
 from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
 from ...robustness.search import largest_margin, placement, postures_at
 from ...scene.robot import RobotSpec
@@ -79,9 +85,11 @@ def headline_locations(results: Path, nominal: np.ndarray, robust: np.ndarray,
 
 
 def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessConfig,
-                   rngs: list[np.random.Generator]) -> dict[str, pd.DataFrame]:
+                   models: list[tuple[dict, object, np.random.Generator]]) -> dict[
+                       str, pd.DataFrame]:
     """The headline locations under posture error: their score distributions, item flips and
-    margins, and the comparisons between them (every SD of the configuration)."""
+    margins, and the comparisons between them, for each error model (``models``: the columns
+    that label it in the tables, the model, its generator)."""
     evaluator = config.evaluator()
     posture, feasible = postures_at(named[["x", "y", "z"]].to_numpy(float), evaluator)
     if not feasible.all():
@@ -91,23 +99,22 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
     pairs = [(a, b) for a in ("nominal optimum", "robust optimum")
              for b in named["location"] if b.startswith(("shortest", "practice"))]
     index = {name: i for i, name in enumerate(named["location"])}
-    for sd, rng in tqdm(list(zip(part.angle_sds, rngs, strict=True)), desc="posture error",
-                        unit="SD"):
-        mc = monte_carlo(posture, ErrorModel(sd, part.structure), part.draws, rng, keep=True,
+    for labels, model, rng in tqdm(models, desc="posture error", unit="model"):
+        mc = monte_carlo(posture, model, part.draws, rng, keep=True,
                          settings=evaluator.scoring)
         table = mc.table(named["location"]).merge(named, on="location")
-        tables.append(table.assign(angle_sd_deg=sd, structure=part.structure))
+        tables.append(table.assign(**labels))
         for item, share in mc.flips.items():
-            flips.append(pd.DataFrame({"location": named["location"], "angle_sd_deg": sd,
+            flips.append(pd.DataFrame({"location": named["location"], **labels,
                                        "item": item, "p_flip": share}))
         for a, b in pairs:
             for score in SCORES:
                 compared.append({"comparison": f"{a} vs {b}", "a": a, "b": b, "score": score,
-                                 "perturbation": "posture error", "angle_sd_deg": sd,
+                                 "perturbation": "posture error", **labels,
                                  "n": part.draws, **difference(mc.values[score][index[a]],
                                                                mc.values[score][index[b]])})
-    columns = ["location", "x", "y", "z", "score", "angle_sd_deg", "structure", "nominal",
-               "mean", "mean_se", "p_nominal_or_better", "q05", "q95", "draws"]
+    columns = ["location", "x", "y", "z", "score", *models[0][0], "nominal", "mean", "mean_se",
+               "p_nominal_or_better", "q05", "q95", "draws"]
     return {"locations": pd.concat(tables, ignore_index=True)[columns],
             "flips": pd.concat(flips, ignore_index=True),
             "margins": margin_table(posture, named["location"],
@@ -148,7 +155,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
     part = config.robustness
 
     def work(folder: Path) -> dict:
-        seeds = np.random.SeedSequence(part.seed).spawn(5)
+        seeds = np.random.SeedSequence(part.seed).spawn(6)  # the first five as before
         seed = search_seed(part)  # seeds[0]'s
         evaluator = config.evaluator()
         landscape = default_landscape(config, engine)
@@ -162,8 +169,19 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         practice = practice_location(evaluator, evaluator.body.elbow_height_m)
         named = headline_locations(results, nominal, robust.location, margin.location,
                                    practice)
-        tables = posture_tables(named, config, part, [np.random.default_rng(s) for s in
-                                                      seeds[1].spawn(len(part.angle_sds))])
+        tables = posture_tables(named, config, part, [
+            ({"angle_sd_deg": sd, "structure": part.structure},
+             ErrorModel(sd, part.structure), np.random.default_rng(s))
+            for sd, s in zip(part.angle_sds, seeds[1].spawn(len(part.angle_sds)), strict=True)])
+        models = (MEASURED_ERROR, *MEASURED_VARIANTS.values())
+        measured = posture_tables(named, config, part, [
+            ({"error_model": model.name}, model, np.random.default_rng(s))
+            for model, s in zip(models, seeds[5].spawn(len(models)), strict=True)])
+        tables |= {f"measured_{name}": measured[name]
+                   for name in ("locations", "flips", "comparisons")}
+        tables["measured_error"] = MEASURED_ERROR.table().assign(
+            within_segment=MEASURED_ERROR.within_segment,
+            between_sides=MEASURED_ERROR.between_sides, source=MEASURED_ERROR.source)
         tables["placement"] = placement_table(named, landscape, evaluator,
                                               part.placement_radii_cm)
         tables["practice_carries"] = practice_carries(config, engine, landscape, practice)
