@@ -15,9 +15,11 @@ README = (ROOT / "README.md").read_text()
 RESULTS = ROOT / "results"
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
 
+import headline_rules  # noqa: E402
 import learning_tables  # noqa: E402
 import people_tables  # noqa: E402
 import personalise_tables  # noqa: E402
+import population_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
 import stance_tables  # noqa: E402
@@ -122,6 +124,8 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     one_size = pd.read_csv(RESULTS / "population" / "one_size.csv")
     groups = pd.read_csv(RESULTS / "population" / "groups.csv")
     proportions = pd.read_csv(RESULTS / "population" / "proportions.csv")
+    tests = pd.read_csv(RESULTS / "population" / "who_pays_tests.csv")
+    held_out = pd.read_csv(RESULTS / "robustness" / "one_size.csv")
     twins = pd.read_csv(RESULTS / "population" / "fixed_ratio_twin.csv")
     rows = {}
 
@@ -147,7 +151,8 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
          f"({100 * postural['fraction_at_min']:.2f} % of the feasible points)",
          f"({postural['best_x']:.3f}, {postural['best_y']:.3f}, {postural['best_z']:.3f}) m",
          f"on {100 * gaze_off['fraction_at_min']:.1f} % of a {100 * gaze_off['step']:.0f} cm grid",
-         f"; {int(no_effort['paper_postural_min'])} when the twin does not feel the load"])
+         f"; {int(no_effort['paper_postural_min'])} when the twin does not feel the load",
+         headline_rules.rules(RESULTS)["its minimum"].reverses.split("; ")[1]])
 
     matched = summary[summary["mapping"] == 315.0]  # the paper's rate: paper-2min, paper-5min
     budgets = list(dict.fromkeys(matched["budget"]))
@@ -175,7 +180,9 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
         [f"({span(opt['paper_postural_paper'])} vs {span(short['paper_postural_paper'])})"],
         [f"{span(opt['paper_postural'])} vs {span(short['paper_postural'])} from every start",
          f"REBA {span(opt['reba'])} vs {span(short['reba'])}",
-         f"RULA {span(opt['rula'])} vs {span(short['rula'])}"])
+         f"RULA {span(opt['rula'])} vs {span(short['rula'])}",
+         f"({len(starts)} starts", *headline_rules.rules(RESULTS)[
+             "optimised vs shortest distance"].reverses.split("; ")])
 
     assert baselines["robot_feasible"].all()
     rows["the robot"] = (
@@ -196,30 +203,42 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
         [],
         [f"({percentile(sizes.iloc[0])}th-percentile woman to "
          f"{percentile(sizes.iloc[-1])}th-percentile man)",
-         f"REBA {span(own)} at their own optimum vs {span(shortest)} at the shortest-distance"])
+         f"REBA {span(own)} at their own optimum vs {span(shortest)} at the shortest-distance",
+         headline_rules.rules(RESULTS)["participants"].reverses])
 
     sampled = workers[workers["reference"] == 0]
     reference = workers.loc[workers["reference"] == 1, "worker"].iloc[0]
     best = one_size[(one_size["objective"] == "paper_postural")
                     & (one_size["choice"] == "mean")].iloc[0]
+    held = held_out[(held_out["objective"] == "paper_postural")
+                    & (held_out["choice"] == "mean")].iloc[0]
     sex = groups[(groups["objective"] == "paper_postural") & (groups["choice"] == "reference")
                  & (groups["by"] == "sex")].set_index("group")["mean_penalty"]
     male = proportions[(proportions["objective"] == "paper_postural")
                        & (proportions["choice"] == "reference")
                        & (proportions["term"] == "male")].iloc[0]
+    planned = population_tables.planned_sex(tests)
+    stature = tests[(tests["objective"] == "paper_postural") & (tests["choice"] == "reference")
+                    & (tests["question"] == "stature")
+                    & (tests["model"] == population_tables.PLANNED)].iloc[0]
     shift = twins.pivot(index="objective", columns="proportions", values=["y", "z"])
     moved = 100 * max((shift[(a, "ansur2")] - shift[(a, "drillis-contini")]).abs().max()
                       for a in ("y", "z"))
     rows["population"] = (
         [],
         [f"{len(sampled)} sampled workers ({(sampled['sex'] == 'female').sum()} women)",
-         f"costs {best['mean_penalty']:.2f} points",
+         f"costs {held['split_half_held_out']:.2f} points of the postural score "
+         f"({held['split_half_held_out_q025']:.2f}–{held['split_half_held_out_q975']:.2f}) on "
+         f"workers it was not chosen on ({best['mean_penalty']:.2f} in sample)",
          f"penalises {100 * best['share_penalised']:.0f} % of them",
          f"at the {percentile(reference)}th-percentile man's optimum women pay "
          f"{sex['female']:.2f}, men {sex['male']:.2f}",
-         "with stature, elbow height and arm length per stature in the model, a man's "
-         "penalty there differs from a woman's by {:+.2f} (p = {:.2g})".format(
-             *male.loc[["coef", "p"]]),
+         f"Holm over the {int(planned['family'])} who-pays tests",
+         "stature matters (Holm-adjusted p {})".format(
+             "< 0.001" if stature["p_holm"] < 0.001 else f"= {stature['p_holm']:.2g}"),
+         f"of the same size by {planned['estimate']:+.2f} (Holm-adjusted p = "
+         f"{planned['p_holm']:.2g}; a straight line in stature gave {male['coef']:+.2f}, "
+         f"p = {male['p']:.2g} unadjusted)",
          f"moves the optimum by at most {moved:.0f} cm"])
 
     block = robustness_tables.blocks(RESULTS)["robustness-headline"]

@@ -80,17 +80,38 @@ def verdict_table(summary: pd.DataFrame, comparisons: pd.DataFrame, budgets: lis
         tests = []
         for reference in ("randomwalk", "random-draws"):
             row = group[group["versus"] == reference].iloc[0]
-            tests.append(f"{row['verdict']} ({p_text(row['p_wilcoxon_holm'])}, "
+            shown = verdicts(group[group["versus"] == reference]).iloc[0]
+            shown = "both at the ceiling" if shown == CEILING else shown
+            tests.append(f"{shown} ({p_text(row['p_wilcoxon_holm'])}, "
                          f"r = {row['rank_biserial']:+.2f})")
         lines.append(f"| {target} | {budget} | {' | '.join(shown)} | {' | '.join(tests)} |")
     return lines
 
 
 SHORT = {"better": "better", "worse": "worse", "no conclusion": "–"}
+CEILING = "ceiling"
+"""The verdict shown where both agents succeed in all but at most one run: an equivalence test
+passes there whether or not the agents search alike, so it is not reported as equivalence."""
+
+
+def at_ceiling(rows: pd.DataFrame) -> pd.Series:
+    """Comparisons where both agents reached the target in at least n - 1 of the n runs."""
+    return (rows["successes_agent"] >= rows["n"] - 1) & (rows["successes_versus"] >= rows["n"] - 1)
+
+
+def verdicts(rows: pd.DataFrame) -> pd.Series:
+    """Each comparison's verdict as the tables show it: ``ceiling`` where both agents are at
+    the ceiling and no difference was found, else the study's verdict."""
+    shown = rows["verdict"].copy()
+    tie = at_ceiling(rows) & ~rows["verdict"].isin(("better", "worse"))
+    shown[tie] = CEILING
+    return shown
 
 
 def short_verdict(text: str) -> str:
     """A verdict in a narrow cell: ``≡`` for equivalent success rates, ``–`` for none."""
+    if text == CEILING:
+        return CEILING
     return "≡" if text.startswith("equivalent") else SHORT[text]
 
 
@@ -98,7 +119,8 @@ def mapping_table(comparisons: pd.DataFrame, budgets: list[str],
                   learner: str = "qlearning") -> list[str]:
     """The learner against the random walk / random draws at every budget of every
     mapping, one row per target."""
-    at = comparisons[comparisons["agent"] == learner].set_index(["target", "budget", "versus"])
+    at = comparisons[comparisons["agent"] == learner]
+    at = at.assign(verdict=verdicts(at)).set_index(["target", "budget", "versus"])
     lines = ["| target | " + " | ".join(budgets) + " |", "|---|" + "---|" * len(budgets)]
     for target in dict.fromkeys(comparisons["target"]):
         cells = []
@@ -193,7 +215,7 @@ def blocks(results) -> dict[str, str]:
     paper = paper_budgets(summary)
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"learning-claim": claim(summary, paper),
-            "learning-learns": learns(comparisons),
+            "learning-learns": learns(comparisons, power),
             "learning-targets": table(targets_table(targets)),
             "learning-tally": table(tally(comparisons)),
             "learning-verdicts": table(verdict_table(summary, comparisons, paper)),
@@ -205,35 +227,50 @@ def blocks(results) -> dict[str, str]:
 def claim(summary: pd.DataFrame, budgets: list[str], target: str = "paper") -> str:
     """The headline table's answer to the paper's claim that every run reaches the minimum."""
     at = summary[summary["target"] == target].set_index(["agent", "budget"])
-    counts = {a: " and ".join(f"{int(at.loc[(a, b), 'successes'])}/"
-                              f"{int(at.loc[(a, b), 'n_runs'])}" for b in budgets)
+    counts = {a: " and ".join(rate(*at.loc[(a, b), ["successes", "n_runs", "ci_low",
+                                                     "ci_high"]]) for b in budgets)
               for a in ("qlearning", "randomwalk", "random-draws")}
     steps = " and ".join(f"{int(at.loc[('qlearning', b), 'steps']):,}" for b in budgets)
     score = at["target_score"].iloc[0]
     return (f"at budgets matched to the paper's caps ({steps} evaluations) Q-learning reaches "
             f"the minimum ({score:g}) in {counts['qlearning']} runs, a random walk in "
-            f"{counts['randomwalk']}, random draws in {counts['random-draws']}; rarer targets "
-            "tell them apart: the learning study")
+            f"{counts['randomwalk']}, random draws in {counts['random-draws']} (95 % Wilson "
+            "intervals); rarer targets tell them apart: the learning study")
 
 
-def learns(comparisons: pd.DataFrame) -> str:
+def learns(comparisons: pd.DataFrame, power: pd.DataFrame) -> str:
     """The headline table's answer to "does it learn?": each learner's verdicts against the
-    random walk and random draws over every target and budget (Holm-corrected)."""
+    random walk and random draws over every target and budget (Holm-corrected), the ceiling
+    counted apart, and what the equivalence test could have found at the study's runs."""
     def counted(agent: str, versus: str) -> tuple[int, dict]:
         rows = comparisons[(comparisons["agent"] == agent) & (comparisons["versus"] == versus)]
-        return len(rows), rows["verdict"].map(short_verdict).value_counts().to_dict()
+        return len(rows), verdicts(rows).map(short_verdict).value_counts().to_dict()
 
     q = comparisons[comparisons["agent"] == "qlearning"]
     n_walk, walk = counted("qlearning", "randomwalk")
     n_random, random = counted("qlearning", "random-draws")
+    pairs = q[q["versus"] == "randomwalk"]
+    open_ = pairs[verdicts(pairs) == "no conclusion"]
+    raw = min(open_["p_wilcoxon"].min(), open_["p_mcnemar"].min()) if len(open_) else 1.0
+    margin = 100 * q["margin"].iloc[0]
+    tost = power[(power["test"] == "TOST") & (power["level"] == "Holm's first step")
+                 & (power["n"] == int(q["n"].min()))
+                 & power["effect"].str.contains("1 % of runs discordant")].iloc[0]
     text = (f"over {q['target'].nunique()} targets and {q['budget'].nunique()} budgets (the "
             f"paper's two caps at {q['mapping'].nunique()} rates, "
             f"{int(q['n'].min())} paired runs each, Holm-corrected), tabular Q-learning beats "
             f"a random walk in {walk.get('better', 0)} of {n_walk} comparisons (worse in "
-            f"{walk.get('worse', 0)}, equivalent within ±{100 * q['margin'].iloc[0]:g} points "
-            f"of success rate in {walk.get('≡', 0)}, no conclusion in {walk.get('–', 0)}) "
-            f"and random draws in {random.get('better', 0)} of {n_random} (worse in "
-            f"{random.get('worse', 0)})")
+            f"{walk.get('worse', 0)}; no conclusion in {walk.get('–', 0)}, "
+            + ("none with an unadjusted p below 0.05" if raw >= 0.05 else
+               f"the smallest unadjusted p {raw:.2g}")
+            + f"; in {walk.get(CEILING, 0)} both reach the target in all but at most one run, "
+            f"a ceiling that tells nothing apart"
+            + (f"; equivalent within ±{margin:g} points of success rate in {walk['≡']}"
+               if walk.get("≡") else "")
+            + f") and random draws in {random.get('better', 0)} of {n_random} (worse in "
+            f"{random.get('worse', 0)}); equal learners would pass the equivalence test "
+            f"(±{margin:g} points) in only {100 * tost['power']:.0f} % of comparisons at Holm's "
+            f"first step with 1 % of runs discordant each way")
     if (comparisons["agent"] == "dqn").any():
         n_dqn, dqn = counted("dqn", "randomwalk")
         n_dqn_random, dqn_random = counted("dqn", "random-draws")
@@ -253,10 +290,11 @@ def tally(comparisons: pd.DataFrame) -> list[str]:
     for (agent, mapping), group in groups:
         parts = []
         for reference, g in group.groupby("versus", sort=False):
-            counts = g["verdict"].map(short_verdict).value_counts()
+            counts = verdicts(g).map(short_verdict).value_counts()
             parts.append(f"against {AGENT_NAMES[reference]} better in "
                          f"{counts.get('better', 0)}, worse in {counts.get('worse', 0)}, "
-                         f"equivalent in success in {counts.get('≡', 0)}, no conclusion in "
+                         f"both at the ceiling in {counts.get(CEILING, 0)}, equivalent in "
+                         f"success in {counts.get('≡', 0)}, no conclusion in "
                          f"{counts.get('–', 0)}")
         pairs = group[["target", "budget"]].drop_duplicates()
         where = "wall-clock caps" if math.isnan(mapping) else f"{mapping:g} evaluations/s"

@@ -122,6 +122,48 @@ def proportions_table(fits: pd.DataFrame, objective: str = "paper_postural") -> 
     return [*lines, "", f"Least squares over the {n} workers, all four terms together."]
 
 
+PLANNED = "spline, HC3 errors"
+"""The analysis plan's model (docs/population.md#the-analysis-plan)."""
+
+
+def planned_tests_table(tests: pd.DataFrame) -> list[str]:
+    """The plan's family of who-pays tests: per score and distinct one-size location, sex
+    beyond body size (points, man less woman) and stature, under the plan's model with Holm's
+    adjustment, beside the straight-line fit and the plan's two changes one at a time."""
+    if tests.empty:
+        return ["No who-pays test: the workers are too few for the plan's models, or nobody's "
+                "penalty differs."]
+    models = list(dict.fromkeys(tests["model"]))
+    lines = ["| score | one-size location | test | " + " | ".join(
+        f"{m}{' (the plan; Holm)' if m == PLANNED else ''}" for m in models) + " |",
+        "|---|---|---|" + "---|" * len(models)]
+    for (objective, choice, question), rows in tests.groupby(
+            ["objective", "choice", "question"], sort=False):
+        by = rows.set_index("model")
+        cells = []
+        for m in models:
+            r = by.loc[m]
+            p = f"p = {r.p:.2g}" + (f", Holm {r.p_holm:.2g}" if m == PLANNED else "")
+            cells.append(f"{r.estimate:+.2f} ({r.ci_low:+.2f} to {r.ci_high:+.2f}), {p}"
+                         if question.startswith("sex") else f"F = {r.statistic:.1f}, {p}")
+        lines.append(f"| {OBJECTIVE_NAMES[objective]} | {CHOICE_NAMES[choice]} | {question} | "
+                     + " | ".join(cells) + " |")
+    family = int(tests["family"].iloc[0])
+    effects = tests[(tests["model"] == PLANNED) & (tests["p_holm"] < 0.05)]
+    return [*lines, "", f"The plan's family: {family} tests over {int(tests['n'].max())} "
+            f"workers; {len(effects)} with a Holm-adjusted p below 0.05 ("
+            + ", ".join(sorted(set(effects["question"]))) + ")." if len(effects) else
+            f"The plan's family: {family} tests; none with a Holm-adjusted p below 0.05."]
+
+
+def planned_sex(tests: pd.DataFrame, objective: str = "paper_postural",
+                choice: str = "reference") -> pd.Series:
+    """The plan's sex test at one location (the README's population row)."""
+    return tests[(tests["objective"] == objective) & (tests["choice"] == choice)
+                 & (tests["question"] == "sex beyond body size")
+                 & (tests["model"] == PLANNED)].iloc[0]
+
+
 def fixed_ratio_twin_table(twins: pd.DataFrame) -> list[str]:
     """The reference worker's optimum sized by the survey's model and by the fixed ratios."""
     lines = ["| score | optimum, body model (x, y, z) [m] | optimum, fixed ratios (x, y, z) [m] "
@@ -169,10 +211,10 @@ def claim(one_size: pd.DataFrame, groups: pd.DataFrame, workers: pd.DataFrame) -
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/population/ only."""
     folder = results / "population"
-    one_size, groups, fits, workers, heights, proportions, twins = (
+    one_size, groups, fits, workers, heights, proportions, twins, tests = (
         _read(folder, f"{n}.csv") for n in
         ("one_size", "groups", "height_fit", "workers", "working_heights", "proportions",
-         "fixed_ratio_twin"))
+         "fixed_ratio_twin", "who_pays_tests"))
     table = lambda lines: "\n" + "\n".join(lines) + "\n"  # noqa: E731
     return {"population-claim": claim(one_size, groups, workers),
             "population-one-size": table(one_size_table(one_size)),
@@ -180,6 +222,7 @@ def blocks(results: Path) -> dict[str, str]:
             "population-height": table(height_table(fits)),
             "population-working-heights": table(working_heights_table(heights)),
             "population-proportions": table(proportions_table(proportions)),
+            "population-planned-tests": table(planned_tests_table(tests)),
             "population-fixed-ratio-twin": table(fixed_ratio_twin_table(twins))}
 
 
@@ -196,6 +239,8 @@ def section(results: Path) -> list[str]:
             made["population-height"], made["population-working-heights"],
             "Who pays beyond stature: penalty against sex and proportions (postural score):",
             made["population-proportions"],
+            "Who pays, as planned (docs/population.md#the-analysis-plan):",
+            made["population-planned-tests"],
             "The reference worker sized by the body model and by the earlier fixed ratios:",
             made["population-fixed-ratio-twin"]]
 

@@ -42,14 +42,17 @@ def headline(results: Path) -> str:
                     & (locations["stance"] == "step")
                     & (locations["worker"] == mine["worker"].iloc[0])]
     step = paper.loc["step"]
+    beats = mine.groupby(["stance", "score"])["beats"].sum().astype(int)
     parts = [f"when the worker may step toward the box, the optimised location "
              f"({int(step['optimised'].iloc[0])}) beats the shortest-distance one from "
-             f"{int(step['beats'].sum())} of {len(step)} starts ("
+             f"{int(step['beats'].sum())} of {len(step)} starts on the paper score ("
              f"{_span(step['shortest_distance'])} there, after a step of "
              f"{_span(100 * far['step_m'])} cm; planted "
              f"{_span(paper.loc['fixed', 'shortest_distance'])}), and from "
              f"{int(survives.sum()['step'])} of {int(survives.count()['step'])} at "
-             f"{ERROR_SD:g}° of posture error (planted {int(survives.sum()['fixed'])})"]
+             f"{ERROR_SD:g}° of posture error (planted {int(survives.sum()['fixed'])}); but on "
+             f"REBA from only {beats['step', 'reba']} and on RULA from {beats['step', 'rula']} "
+             f"of {len(step)} (planted {beats['fixed', 'reba']} and {beats['fixed', 'rula']})"]
     others = head[(head["optimised_location"] == "own optimised") & (head["score"] == "reba")]
     if len(others):
         stepping = others[others["stance"] == "step"]

@@ -22,7 +22,7 @@ from .population import (
     who_pays,
     working_heights,
 )
-from .who_pays import tests, with_holm
+from .who_pays import sex_and_stature_tests, with_holm
 
 OBJECTIVES = ("paper_postural", "reba", "rula")
 """The scores each worker's optimum and penalties are read for."""
@@ -66,9 +66,10 @@ def analyse(table: pd.DataFrame, matrices: dict, grid: Grid,
                             for row in penalty_regression(penalty, predictors)]
             if cell not in [cells[c] for c in CHOICES[:CHOICES.index(choice)]]:
                 # A location chosen twice is one test, not two (the family counts locations).
-                who_pays_tests += [{"objective": objective, "choice": choice, **row}
-                                   for row in tests(penalty, predictors["stature_m"],
-                                                    predictors["male"], proportion_terms)]
+                who_pays_tests += [
+                    {"objective": objective, "choice": choice, **row}
+                    for row in sex_and_stature_tests(penalty, predictors["stature_m"],
+                                                     predictors["male"], proportion_terms)]
             taken = ~np.isnan(penalty)
             rho, p = stats.spearmanr(workers["stature_m"][taken], penalty[taken]) \
                 if np.ptp(penalty[taken]) > 0 else (np.nan, np.nan)

@@ -1,6 +1,6 @@
 """Who pays for a one-size handover location: the population study's pre-specified tests.
 
-The plan (docs/population.md#the-analysis-plan, fixed before these tests were first run):
+The plan (docs/population.md#the-analysis-plan; the same for every score and location):
 - the response is a worker's penalty at a one-size location (score there less their own
   optimum), one model per score and one-size location;
 - stature enters as a restricted cubic spline (:data:`KNOT_QUANTILES`: Harrell's default knots
@@ -55,7 +55,7 @@ def restricted_cubic_spline(x: np.ndarray, knots: np.ndarray) -> np.ndarray:
     return np.column_stack(columns)
 
 
-def tests(penalty: np.ndarray, stature: np.ndarray, male: np.ndarray,
+def sex_and_stature_tests(penalty: np.ndarray, stature: np.ndarray, male: np.ndarray,
           proportions: dict[str, np.ndarray]) -> list[dict]:
     """Both questions of the family under every model of :data:`MODELS` for one score and
     one-size location: the sex coefficient (points of penalty, man less woman) with its 95 %
