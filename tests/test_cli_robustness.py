@@ -12,7 +12,9 @@ import pytest
 
 from ergohandover.cli import main
 from ergohandover.ergonomics.posture import POSTURE_COLUMNS
-from ergohandover.robustness.posture_error import ANGLE_COLUMNS, SCORES
+from ergohandover.io.posture_csv import read_postures
+from ergohandover.robustness.measured_error import MEASURED_ERROR
+from ergohandover.robustness.posture_error import ANGLE_COLUMNS, SCORES, monte_carlo
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINES = ROOT / "results" / "baselines" / "baselines.csv"
@@ -141,7 +143,27 @@ BAD = {
     "missing": (["--postures", "MISSING"], "--postures MISSING: no such file"),
     "structure": (["--postures", "ONE", "--structure", "paired"], "--structure paired: not one"),
     "points without x": (["--points", "ONE"], "--points ONE is missing required column 'x'"),
+    "measured and SD": (["--postures", "ONE", "--measured-error", "--angle-sd", "2"],
+                        "--angle-sd cannot be used with --measured-error"),
+    "measured and structure": (["--postures", "ONE", "--measured-error", "--structure",
+                                "bilateral"], "--structure cannot be used with --measured-error"),
 }
+
+
+def test_the_measured_error_is_the_study_models_draws(tmp_path, one_posture):
+    """--measured-error scores with the robustness part's IMU model: the same Monte Carlo as
+    the library's for the seed, one row per score, the model named in place of an SD."""
+    table = robustness(tmp_path, "--postures", str(one_posture), "--measured-error",
+                       "--draws", "500", "--seed", "3")
+    assert len(table) == len(SCORES) and table["angle_sd_deg"].isna().all()
+    assert set(table["structure"]) == {MEASURED_ERROR.name}
+    posture = read_postures(str(one_posture), "test")[1]
+    expected = monte_carlo(posture, MEASURED_ERROR, 500, np.random.default_rng(
+        np.random.SeedSequence(3).spawn(1)[0]))
+    for score in SCORES:
+        row = table[table["score"] == score].iloc[0]
+        assert row["mean"] == pytest.approx(expected.mean[score][0])
+        assert row["nominal"] == expected.nominal[score][0]
 
 
 @pytest.mark.parametrize("case", list(BAD))

@@ -14,6 +14,7 @@ from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
 from ..io.posture_csv import read_postures
 from ..robustness.margins import margin_table
+from ..robustness.measured_error import MEASURED_ERROR
 from ..robustness.posture_error import ANGLE_COLUMNS, SCORES, STRUCTURES, ErrorModel, monte_carlo
 from ..robustness.search import postures_at
 from . import defaults
@@ -37,7 +38,10 @@ twin is evaluated there, as by 'ergohandover evaluate') or --postures (a Posture
 nominal score, the mean of --draws measured scores and its standard error, the share of draws
 at or below the nominal score and the 5% and 95% quantiles. A location is named by the CSV's
 name or location column, else row<i>; an infeasible location (--points) has feasible 0 and empty
-statistics. Each SD draws from its own generator spawned from --seed."""
+statistics. Each SD draws from its own generator spawned from --seed. --measured-error scores
+instead under an IMU system's error as it was measured against optical motion capture: a bias
+and an SD per joint, correlated within a segment and between sides (Schall et al. 2016 for the
+trunk and upper arm, the rest assumed; the report's robustness section lists them)."""
 STATS = ("nominal", "mean", "mean_se", "p_nominal_or_better", "q05", "q95", "draws")
 WHOLE = ("nominal", "q05", "q95", "draws")
 
@@ -63,10 +67,14 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--postures", type=input_file, metavar="CSV",
                         help="a Posture CSV to read instead of --points; - for stdin")
     parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+",
-                        default=[defaults.ANGLE_SD], metavar="DEG",
+                        default=None, metavar="DEG",
                         help="the angle error's standard deviation [deg], >= 0; one or more "
                         f"values (default: {defaults.ANGLE_SD:g})")
-    parser.add_argument("--structure", type=choice(STRUCTURES), default=STRUCTURES[0],
+    parser.add_argument("--measured-error", action="store_true",
+                        help="score under an IMU's measured error per joint (bias, SD, "
+                        "correlations) instead of --angle-sd; angle_sd_deg is then empty and "
+                        "structure names the model")
+    parser.add_argument("--structure", type=choice(STRUCTURES), default=None,
                         metavar="|".join(STRUCTURES), help="independent errors, or one error "
                         f"for both sides of each paired angle (default: {STRUCTURES[0]})")
     parser.add_argument("--draws", type=whole(1), default=defaults.DRAWS, metavar="N",
@@ -140,25 +148,40 @@ def ordered(parts: list[pd.DataFrame], locations: pd.DataFrame) -> pd.DataFrame:
     return pd.concat([where, frame.drop(columns="row").reset_index(drop=True)], axis=1)
 
 
+def error_models(args: argparse.Namespace) -> list[tuple[float, str, object]]:
+    """(angle SD or NaN, structure or the model's name, model) for each error model asked
+    for; --measured-error takes neither --angle-sd nor --structure."""
+    if args.measured_error:
+        given = [f for f, v in (("--angle-sd", args.angle_sd), ("--structure", args.structure))
+                 if v is not None]
+        if given:
+            raise InputError(f"{given[0]} cannot be used with --measured-error (the measured "
+                             "model sets every angle's error and how they correlate)")
+        return [(np.nan, MEASURED_ERROR.name, MEASURED_ERROR)]
+    structure = args.structure or STRUCTURES[0]
+    return [(sd, structure, ErrorModel(sd, structure))
+            for sd in args.angle_sd or [defaults.ANGLE_SD]]
+
+
 def run(args: argparse.Namespace) -> int:
+    models = error_models(args)
     locations, posture, feasible = read_input(args)
     rows = np.flatnonzero(feasible)
     names = locations["location"].to_numpy()
-    spawned = np.random.SeedSequence(args.seed).spawn(len(args.angle_sd))
+    spawned = np.random.SeedSequence(args.seed).spawn(len(models))
     every = pd.DataFrame({"row": np.repeat(np.arange(len(locations)), len(SCORES)),
                           "score": np.tile(SCORES, len(locations))})
     tables, flips = [], [pd.DataFrame(columns=["row", "angle_sd_deg", "item", "p_flip"])]
-    for sd, sequence in zip(args.angle_sd, spawned, strict=True):
+    for (sd, structure, model), sequence in zip(models, spawned, strict=True):
         found = pd.DataFrame(columns=["row", "score", *STATS])
         if rows.size:
-            result = monte_carlo(posture, ErrorModel(sd, args.structure), args.draws,
-                                 np.random.default_rng(sequence))
+            result = monte_carlo(posture, model, args.draws, np.random.default_rng(sequence))
             found = result.table(rows).rename(columns={"location": "row"})
             flips += [pd.DataFrame({"row": rows, "angle_sd_deg": sd, "item": item,
                                     "p_flip": share}) for item, share in result.flips.items()]
         table = every.merge(found, on=["row", "score"], how="left")
         table.insert(1, "angle_sd_deg", sd)
-        table.insert(2, "structure", args.structure)
+        table.insert(2, "structure", structure)
         tables.append(table)
     table = ordered(tables, locations)
     table[list(WHOLE)] = table[list(WHOLE)].astype(float).astype("Int64")
@@ -177,10 +200,13 @@ def run(args: argparse.Namespace) -> int:
         return 0
     paper = table[table["score"] == "paper_postural"]
     for row in paper.itertuples(index=False):
-        head = f"{row.location} (angle SD {row.angle_sd_deg:g} deg): "
+        error = (row.structure if pd.isna(row.angle_sd_deg) else
+                 f"angle SD {row.angle_sd_deg:g} deg")
+        head = f"{row.location} ({error}): "
         print(head + ("infeasible" if pd.isna(row.nominal) else
                       f"paper_postural {row.nominal} -> mean {row.mean:.2f}, "
                       f"P(<= {row.nominal}) {row.p_nominal_or_better:.3f}"), file=sys.stderr)
-    print(f"{len(locations)} locations x {len(args.angle_sd)} angle SDs, {args.draws} draws "
-          f"each -> {args.output}", file=sys.stderr)
+    errors = "the measured error" if args.measured_error else f"{len(models)} angle SDs"
+    print(f"{len(locations)} locations x {errors}, {args.draws} draws each -> {args.output}",
+          file=sys.stderr)
     return 0
