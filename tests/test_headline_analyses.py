@@ -63,6 +63,13 @@ def test_measured_error_draws_have_each_angles_bias_sd_and_the_stated_correlatio
                                                                                 abs=0.01)
     assert abs(corr.loc["trunk_flexion", "left_elbow_flexion"]) < 0.01  # other segments
     assert abs(corr.loc["left_elbow_flexion", "left_upper_arm_flexion"]) < 0.01
+    # Across a segment and the sides: the product, so no combination of errors is fixed.
+    assert corr.loc["left_upper_arm_flexion", "right_upper_arm_abduction"] == pytest.approx(
+        rho_in * rho_sides, abs=0.01)
+    across = ((frame["left_upper_arm_flexion"] - frame["left_upper_arm_abduction"])
+              - (frame["right_upper_arm_flexion"] - frame["right_upper_arm_abduction"]))
+    assert across.std() > 1.0
+    assert np.linalg.eigvalsh(MEASURED_ERROR.correlation()).min() > 0.1
 
 
 def test_the_variants_drop_the_correlations_and_scale_only_the_sds():

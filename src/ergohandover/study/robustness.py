@@ -106,12 +106,13 @@ def robust_pair(landscape: Landscape, evaluator: Evaluator, part: RobustnessConf
     best screened cells, 1 cell around) and the robust location among the cells within
     ``part.robust_tolerance`` of the error-free optimum, with the three expected scores under
     the robust SD measured with the same errors: a row of personal.csv."""
-    found = {"robust": None, "among_optima": part.robust_tolerance}
-    for name, tolerance in found.items():
-        found[name] = robust_recommendation(landscape, evaluator, part, seed,
-                                            part.worker_draws, stride, keep=8, radius=1,
-                                            tolerance=tolerance)[1].location
-    nominal = optimum(landscape, ROBUST_SCORE)[1]
+    tolerances = {"robust": None, "among_optima": part.robust_tolerance}
+    found = {}
+    for name, tolerance in tolerances.items():
+        nominal, search = robust_recommendation(landscape, evaluator, part, seed,
+                                                part.worker_draws, stride, keep=8, radius=1,
+                                                tolerance=tolerance)
+        found[name] = search.location
     posture, _ = postures_at(np.stack([nominal, *found.values()]), evaluator)
     expected = expected_scores(posture, ErrorModel(part.robust_sd, part.structure),
                                part.worker_draws, seed, settings=evaluator.scoring)
