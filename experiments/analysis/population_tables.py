@@ -13,6 +13,7 @@ import pandas as pd
 from readme_blocks import rewrite
 
 from ergohandover.search.statistics import wilson
+from ergohandover.study.who_pays import PLANNED
 
 CHOICE_NAMES = {"reference": "the 50th-percentile man's optimum",
                 "mean": "lowest mean score", "p95": "lowest 95th-percentile score"}
@@ -120,10 +121,6 @@ def proportions_table(fits: pd.DataFrame, objective: str = "paper_postural") -> 
         lines.append(f"| {TERM_NAMES[term]} | " + " | ".join(cells) + " |")
     n = int(at["n"].iloc[0])
     return [*lines, "", f"Least squares over the {n} workers, all four terms together."]
-
-
-PLANNED = "spline, HC3 errors"
-"""The analysis plan's model (docs/population.md#the-analysis-plan)."""
 
 
 def planned_tests_table(tests: pd.DataFrame) -> list[str]:

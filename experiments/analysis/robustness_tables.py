@@ -42,27 +42,47 @@ def kept(rows) -> str:
     return f"{int(rows['survives'].sum())} of {len(rows)}"
 
 
-def reversals(comparisons, score: str = "paper_postural") -> pd.DataFrame:
-    """The posture-error SDs at which the nominal optimum is worse than a shortest-distance
-    location (the whole interval above zero): columns ``angle_sd_deg``, ``starts`` (their
-    numbers), ``low``, ``high`` (the differences' range there)."""
-    rows = shortest(comparisons[comparisons["perturbation"] == "posture error"], score)
-    worse = rows[rows["ci_low"] > 0]
-    return pd.DataFrame([{"angle_sd_deg": sd, "starts": [int(b.rsplit(" ", 1)[1])
-                                                         for b in group["b"]],
-                          "low": group["difference"].min(), "high": group["difference"].max()}
-                         for sd, group in worse.groupby("angle_sd_deg")])
+REVERSAL_SCORES = {"paper_postural": "paper score", "reba": "REBA", "rula": "RULA"}
+MODEL_PHRASES = {"IMU (Schall et al. 2016)": "with the IMU's error",
+                 "IMU, uncorrelated": "with the IMU's error uncorrelated",
+                 "IMU, SDs ×0.5": "with the IMU's SDs halved",
+                 "IMU, SDs ×1.5": "with the IMU's SDs ×1.5"}
+"""How a reversing condition names each measured error model."""
 
 
-def reversal_text(comparisons) -> str:
-    """Where the comparison with the shortest-distance location reverses, in words."""
-    found = reversals(comparisons)
-    if found.empty:
-        return "it is worse from no start at any SD"
-    return "; ".join(
-        f"at {r.angle_sd_deg:g}° it is worse from start{'s' if len(r.starts) > 1 else ''} "
-        + ", ".join(map(str, r.starts)) + f" ({r.low:+.2f} to {r.high:+.2f}, every interval "
-        "above zero)" for r in found.itertuples())
+def _listed(items: list[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def reversal_clauses(comparisons, measured) -> list[str]:
+    """Every error model under which the nominal optimum measures worse than a shortest-
+    distance location (the whole interval above zero), one clause per score and set of starts:
+    ``RULA worse from start 1 at 1°, 2° and 5° on every angle``. The stress test's SDs come
+    first, then the measured model and its variants."""
+    rows = pd.concat([
+        comparisons[comparisons["perturbation"] == "posture error"].assign(
+            condition=lambda f: f["angle_sd_deg"].map(lambda sd: f"{sd:g}°"), kind=0),
+        measured["comparisons"].assign(
+            condition=lambda f: f["error_model"].map(lambda m: MODEL_PHRASES.get(m, m)),
+            kind=1)], ignore_index=True)
+    worse = rows[(rows["a"] == "nominal optimum") & rows["b"].str.startswith("shortest")
+                 & (rows["ci_low"] > 0)]
+    clauses = []
+    for score, label in REVERSAL_SCORES.items():
+        mine = worse[worse["score"] == score]
+        starts = mine.groupby(["kind", "condition"], sort=False)["b"].agg(
+            lambda b: ", ".join(x.rsplit(" ", 1)[1] for x in b))
+        by_starts: dict[str, list[tuple[int, str]]] = {}
+        for (kind, condition), where in starts.items():
+            by_starts.setdefault(where, []).append((kind, condition))
+        for where, conditions in by_starts.items():
+            stress = [c for k, c in conditions if k == 0]
+            said = ([f"at {_listed(stress)} on every angle"] if stress else []) + [
+                c for k, c in conditions if k == 1]
+            plural = "s" if "," in where else ""
+            clauses.append(f"{label} worse from start{plural} {where} {_listed(said)}")
+    return clauses
 
 
 def _starts(rows) -> str:
@@ -79,10 +99,12 @@ def start_verdicts(rows) -> str:
     same = rows[~rows["survives"] & (rows["ci_low"] <= 0)]
     parts = []
     if len(worse):
+        low, high = worse["difference"].min(), worse["difference"].max()
+        size = f"{low:+.2f}" if len(worse) == 1 else f"{low:+.2f} to {high:+.2f}"
         parts.append(f"worse from start{'s' if len(worse) > 1 else ''} {_starts(worse)} "
-                     f"({worse['difference'].min():+.2f} to {worse['difference'].max():+.2f})")
+                     f"({size})")
     if len(same):
-        parts.append(f"no different from {_starts(same)}")
+        parts.append(f"not distinguishable from {_starts(same)}")
     if len(better):
         parts.append(f"better from {_starts(better)}")
     return ", ".join(parts)
@@ -95,6 +117,20 @@ def measured_verdicts(measured) -> str:
     return (f"on the paper score it is {start_verdicts(shortest(imu, 'paper_postural'))}, on "
             f"REBA {start_verdicts(shortest(imu, 'reba'))} and on RULA "
             f"{start_verdicts(shortest(imu, 'rula'))}")
+
+
+def measured_counts(measured) -> str:
+    """How many starts the optimum beats under the measured error, per score, with the starts
+    it cannot be told from on the paper score."""
+    imu = measured["comparisons"][measured["comparisons"]["error_model"] == MEASURED]
+    paper = shortest(imu, "paper_postural")
+    unclear = paper[~paper["survives"] & (paper["ci_low"] <= 0)]
+    better = lambda rows: int(rows["survives"].sum())  # noqa: E731
+    return (f"against the shortest-distance location of each of the {len(paper)} starts it is "
+            f"better on REBA from {better(shortest(imu, 'reba'))} and on RULA from "
+            f"{better(shortest(imu, 'rula'))}, but on the paper score from only "
+            f"{better(paper)}" + (f" (not distinguishable from {len(unclear)})" if len(unclear)
+                                  else ""))
 
 
 def trade(personal) -> dict:
@@ -135,11 +171,13 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
         f"{int(at_imu['nominal'])} is measured as {int(at_imu['nominal'])} or better in "
         f"{100 * at_imu['p_nominal_or_better']:.1f} % of {int(at_imu['draws']):,} measurements "
         f"(mean {at_imu['mean']:.2f}); against the shortest-distance locations of the 5 "
-        f"starts (intervals of the difference wholly below or above zero) "
-        f"{measured_verdicts(measured)}. "
-        f"With the same error on every angle, independently (the stress test), it still beats "
-        f"it from {kept(shortest(at5, 'paper_postural'))} at 5° and on REBA from "
-        f"{kept(shortest(at5, 'reba'))}; {reversal_text(comparisons)}. At 5° the optimum's "
+        f"starts (unadjusted 95 % Monte Carlo intervals of the difference wholly below or "
+        f"above zero) {measured_verdicts(measured)}. With the same error on every angle, "
+        f"independently (the stress test), it still beats it from "
+        f"{kept(shortest(at5, 'paper_postural'))} at 5° and on REBA from "
+        f"{kept(shortest(at5, 'reba'))}. It measures worse than a shortest-distance location "
+        f"under these conditions: {'; '.join(reversal_clauses(comparisons, measured))}. At 5° "
+        f"the optimum's "
         f"{int(nominal['nominal'])} is measured as such in "
         f"{100 * nominal['p_nominal_or_better']:.1f} % (mean {nominal['mean']:.2f}). The robust "
         f"optimum scores {int(robust['nominal'])} without error and {robust['mean']:.2f} at 5°, "
@@ -147,9 +185,12 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
         f"{t['n']} workers a worker's own robust location scores worse without error than "
         f"their optimum (by {t['among']:.2f} points among them, {t['all']:.2f} over all) to "
         f"expect {t['gain']:.2f} less when measured; chosen only among their optima, it costs "
-        f"nothing error-free and expects {t['kept_gain']:.2f} less. Across the "
-        f"{int(model_rows['n'].max())} model variants the optimum beats the shortest-distance "
-        f"location from {kept(shortest(model_rows, 'paper_postural'))}; of the "
+        f"nothing error-free and expects {t['kept_gain']:.2f} less (both searches under the "
+        f"stress test's {t['sd']:g}°). Over the {int(model_rows['n'].max())} model variants "
+        f"(the default among them; a designed set, so the bootstrap interval in the table "
+        f"below summarises it rather than samples anything) the optimum's mean difference "
+        f"from the shortest-distance location is below zero from "
+        f"{kept(shortest(model_rows, 'paper_postural'))} starts; of the "
         f"{variants['n']} variants other than the default, {variants['moved']} move its own "
         f"optimum and in {variants['lost']} the default's optimum loses the minimum (by "
         f"{variants['regret_low']:.0f}–{variants['regret_high']:.0f} points; the most, "
@@ -163,10 +204,12 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
         f"on and {mean['out_of_bag_mean_penalty']:.2f} ({mean['out_of_bag_ci_low']:.2f}–"
         f"{mean['out_of_bag_ci_high']:.2f}) on the workers a bootstrap resample left out "
         f"(re-chosen and scored on the same resample it would seem to cost "
-        f"{mean['rechosen_mean_penalty']:.2f}). At the reference's optimum, with stature as a "
-        f"straight line, men pay {sex['coef']:+.2f} ({sex['ci_low']:+.2f} to "
-        f"{sex['ci_high']:+.2f}, p = {sex['p']:.2g}) points of penalty more than women of the "
-        f"same stature; the population part's pre-specified tests do not support it.")
+        f"{mean['rechosen_mean_penalty']:.2f}; the ranges are those of the splits' and "
+        f"resamples' means). At the reference's optimum, with stature alone beside sex as a "
+        f"straight line (`penalty_regression.csv`), men pay {sex['coef']:+.2f} "
+        f"({sex['ci_low']:+.2f} to {sex['ci_high']:+.2f}, p = {sex['p']:.2g}) points of penalty "
+        f"more than women of the same stature; the population part's pre-specified tests, "
+        f"stature as a spline, do not support it.")
 
 
 def headline(locations, comparisons, regret, one_size, measured, personal, variants) -> str:
@@ -183,12 +226,13 @@ def headline(locations, comparisons, regret, one_size, measured, personal, varia
     t = trade(personal)
     return (f"measured as an IMU system measures (Schall et al. 2016; {int(at_imu['draws']):,} "
             f"measurements a location) the optimum's {int(at_imu['nominal'])} is measured as "
-            f"such {100 * at_imu['p_nominal_or_better']:.1f} % of the time; against the "
-            f"shortest-distance location of each of the 5 starts, in expectation, "
-            f"{measured_verdicts(measured)}; with the same error on every angle it is better "
-            f"on the paper score from {kept(shortest(at(2.0), 'paper_postural'))} at 2° and "
-            f"{kept(shortest(at(5.0), 'paper_postural'))} at 5°, but "
-            f"{reversal_text(comparisons)}; in {variants['lost']} of the {variants['n']} model "
+            f"such {100 * at_imu['p_nominal_or_better']:.1f} % of the time; in expectation "
+            f"(unadjusted 95 % intervals) {measured_counts(measured)}; with the same error on "
+            f"every angle, better on the "
+            f"paper score from {kept(shortest(at(2.0), 'paper_postural'))} at 2° and "
+            f"{kept(shortest(at(5.0), 'paper_postural'))} at 5°; it measures worse: "
+            f"{'; '.join(reversal_clauses(comparisons, measured))}; in {variants['lost']} of "
+            f"the {variants['n']} model "
             f"variants other than the default it loses the minimum (by "
             f"{variants['regret_low']:.0f}–{variants['regret_high']:.0f}); the location that "
             f"measures best at {t['sd']:g}° is worse without error for "

@@ -50,7 +50,8 @@ def headline(results: Path) -> str:
              f"{_span(100 * far['step_m'])} cm; planted "
              f"{_span(paper.loc['fixed', 'shortest_distance'])}), and from "
              f"{int(survives.sum()['step'])} of {int(survives.count()['step'])} at "
-             f"{ERROR_SD:g}° of posture error (planted {int(survives.sum()['fixed'])}); but on "
+             f"{ERROR_SD:g}° of posture error (95 % Monte Carlo intervals; planted "
+             f"{int(survives.sum()['fixed'])}); but on "
              f"REBA from only {beats['step', 'reba']} and on RULA from {beats['step', 'rula']} "
              f"of {len(step)} (planted {beats['fixed', 'reba']} and {beats['fixed', 'rula']})"]
     others = head[(head["optimised_location"] == "own optimised") & (head["score"] == "reba")]

@@ -34,7 +34,8 @@ MODELS = {"straight line, OLS errors": (False, "nonrobust"),
           "straight line, HC3 errors": (False, "HC3"),
           "spline, OLS errors": (True, "nonrobust"),
           "spline, HC3 errors": (True, "HC3")}
-"""Each model's stature term (spline or not) and standard errors; the last is the plan's."""
+"""Each model's name -> (stature as a spline rather than a straight line, the standard errors
+as statsmodels' ``cov_type``); the last is the plan's."""
 PLANNED = "spline, HC3 errors"
 QUESTIONS = ("sex beyond body size", "stature")
 COLUMNS = ("objective", "choice", "question", "model", "estimate", "se", "ci_low", "ci_high",
