@@ -18,7 +18,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 import headline_rules  # noqa: E402
 import readme_blocks  # noqa: E402
-import robustness_tables  # noqa: E402
+import robustness_verdicts  # noqa: E402
 from test_readme import headline_rows  # noqa: E402
 
 from ergohandover.study.who_pays import PLANNED  # noqa: E402
@@ -54,7 +54,7 @@ def reversals() -> list[tuple[str, str, str]]:
     stress = stress[stress["perturbation"] == "posture error"].assign(
         token=lambda f: f["angle_sd_deg"].map(lambda sd: f"{sd:g}°"))
     measured = pd.read_csv(RESULTS / "robustness" / "measured_comparisons.csv").assign(
-        token=lambda f: f["error_model"].map(robustness_tables.MODEL_PHRASES))
+        token=lambda f: f["error_model"].map(robustness_verdicts.MODEL_PHRASES))
     assert measured["token"].notna().all(), "an error model without a phrase"
     rows = pd.concat([stress, measured], ignore_index=True)
     worse = rows[(rows["a"] == "nominal optimum") & rows["b"].str.startswith("shortest")

@@ -220,7 +220,7 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     planned = population_tables.planned_sex(tests)
     stature = tests[(tests["objective"] == "paper_postural") & (tests["choice"] == "reference")
                     & (tests["question"] == "stature")
-                    & (tests["model"] == population_tables.PLANNED)].iloc[0]
+                    & (tests["model"] == population_tables.planned_model(tests))].iloc[0]
     shift = twins.pivot(index="objective", columns="proportions", values=["y", "z"])
     moved = 100 * max((shift[(a, "ansur2")] - shift[(a, "drillis-contini")]).abs().max()
                       for a in ("y", "z"))

@@ -14,7 +14,7 @@ from pathlib import Path
 import pandas as pd
 import people_tables
 import personalise_tables
-import robustness_tables
+import robustness_verdicts
 import stance_tables
 from learning_tables import CEILING, verdicts
 from population_tables import planned_sex
@@ -76,7 +76,7 @@ def rules(results: Path) -> dict[str, Rule]:
     posture_sd = stance_tables.ERROR_SD
     starts = len(baselines[["start_x", "start_y", "start_z"]].drop_duplicates())
     measured = pd.read_csv(results / "robustness" / "measured_comparisons.csv")
-    clauses = tuple(robustness_tables.reversal_clauses(robust, {"comparisons": measured}))
+    clauses = tuple(robustness_verdicts.reversal_clauses(robust, {"comparisons": measured}))
     stepping = (f"once the worker may step, it beats it on REBA from {step['reba']} and on "
                 f"RULA from {step['rula']} of {starts} starts")
     q = summary[(summary["agent"] == "qlearning") & (summary["target"] == "paper")

@@ -13,7 +13,6 @@ import pandas as pd
 from readme_blocks import rewrite
 
 from ergohandover.search.statistics import wilson
-from ergohandover.study.who_pays import PLANNED
 
 CHOICE_NAMES = {"reference": "the 50th-percentile man's optimum",
                 "mean": "lowest mean score", "p95": "lowest 95th-percentile score"}
@@ -123,6 +122,11 @@ def proportions_table(fits: pd.DataFrame, objective: str = "paper_postural") -> 
     return [*lines, "", f"Least squares over the {n} workers, all four terms together."]
 
 
+def planned_model(tests: pd.DataFrame) -> str:
+    """The plan's model: the one whose rows carry a Holm-adjusted p (who_pays_tests.csv)."""
+    return tests.loc[tests["p_holm"].notna(), "model"].iloc[0]
+
+
 def planned_tests_table(tests: pd.DataFrame) -> list[str]:
     """The plan's family of who-pays tests: per score and distinct one-size location, sex
     beyond body size (points, man less woman) and stature, under the plan's model with Holm's
@@ -131,8 +135,9 @@ def planned_tests_table(tests: pd.DataFrame) -> list[str]:
         return ["No who-pays test: the workers are too few for the plan's models, or nobody's "
                 "penalty differs."]
     models = list(dict.fromkeys(tests["model"]))
+    planned = planned_model(tests)
     lines = ["| score | one-size location | test | " + " | ".join(
-        f"{m}{' (the plan; Holm)' if m == PLANNED else ''}" for m in models) + " |",
+        f"{m}{' (the plan; Holm)' if m == planned else ''}" for m in models) + " |",
         "|---|---|---|" + "---|" * len(models)]
     for (objective, choice, question), rows in tests.groupby(
             ["objective", "choice", "question"], sort=False):
@@ -140,13 +145,13 @@ def planned_tests_table(tests: pd.DataFrame) -> list[str]:
         cells = []
         for m in models:
             r = by.loc[m]
-            p = f"p = {r.p:.2g}" + (f", Holm {r.p_holm:.2g}" if m == PLANNED else "")
+            p = f"p = {r.p:.2g}" + (f", Holm {r.p_holm:.2g}" if m == planned else "")
             cells.append(f"{r.estimate:+.2f} ({r.ci_low:+.2f} to {r.ci_high:+.2f}), {p}"
                          if question.startswith("sex") else f"F = {r.statistic:.1f}, {p}")
         lines.append(f"| {OBJECTIVE_NAMES[objective]} | {CHOICE_NAMES[choice]} | {question} | "
                      + " | ".join(cells) + " |")
     family = int(tests["family"].iloc[0])
-    effects = tests[(tests["model"] == PLANNED) & (tests["p_holm"] < 0.05)]
+    effects = tests[(tests["model"] == planned) & (tests["p_holm"] < 0.05)]
     return [*lines, "", f"The plan's family: {family} tests over {int(tests['n'].max())} "
             f"workers; {len(effects)} with a Holm-adjusted p below 0.05 ("
             + ", ".join(sorted(set(effects["question"]))) + ")." if len(effects) else
@@ -158,7 +163,7 @@ def planned_sex(tests: pd.DataFrame, objective: str = "paper_postural",
     """The plan's sex test at one location (the README's population row)."""
     return tests[(tests["objective"] == objective) & (tests["choice"] == choice)
                  & (tests["question"] == "sex beyond body size")
-                 & (tests["model"] == PLANNED)].iloc[0]
+                 & (tests["model"] == planned_model(tests))].iloc[0]
 
 
 def fixed_ratio_twin_table(twins: pd.DataFrame) -> list[str]:
