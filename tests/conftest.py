@@ -37,3 +37,17 @@ def landscape_cache(tmp_path_factory):
         del os.environ["ERGOHANDOVER_CACHE"]
     else:
         os.environ["ERGOHANDOVER_CACHE"] = before
+
+
+@pytest.fixture(scope="module")
+def small_landscape():
+    """A 2 cm landscape of the default worker around the study's optimum (a few hundred
+    points: seconds to sweep)."""
+    from ergohandover.landscape.grid import Grid
+    from ergohandover.landscape.store import landscape_of
+    from ergohandover.twin.evaluate import Evaluator
+    from ergohandover.twin.task import Boundary
+
+    evaluator = Evaluator()
+    grid = Grid(Boundary((-0.06, 0.06), (0.94, 1.08), (0.36, 0.46), "test"), 0.02)
+    return evaluator, landscape_of(evaluator, grid)

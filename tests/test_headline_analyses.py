@@ -13,9 +13,7 @@ import pandas as pd
 import pytest
 
 from ergohandover.errors import ConfigError
-from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimum
-from ergohandover.landscape.store import landscape_of
 from ergohandover.robustness.measured_error import (
     MEASURED_ERROR,
     MEASURED_VARIANTS,
@@ -31,8 +29,6 @@ from ergohandover.study.who_pays import (
     sex_and_stature_tests,
     with_holm,
 )
-from ergohandover.twin.evaluate import Evaluator
-from ergohandover.twin.task import Boundary
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
@@ -107,13 +103,6 @@ def test_a_bias_moves_the_measured_score_the_way_it_points():
     kept = monte_carlo(posture, level, 500, np.random.default_rng(0))
     assert moved.mean["reba"][0] > kept.mean["reba"][0]
     assert kept.p_nominal_or_better["reba"][0] > 0.5 > moved.p_nominal_or_better["reba"][0]
-
-
-@pytest.fixture(scope="module")
-def small_landscape():
-    evaluator = Evaluator()
-    grid = Grid(Boundary((-0.06, 0.06), (0.94, 1.08), (0.36, 0.46), "test"), 0.02)
-    return evaluator, landscape_of(evaluator, grid)
 
 
 def test_the_robust_location_among_optima_keeps_the_error_free_optimum(small_landscape):

@@ -12,9 +12,7 @@ from scipy import stats
 
 from ergohandover.ergonomics import POSTURE_COLUMNS, Posture, ScoringSettings, score_postures
 from ergohandover.errors import ConfigError
-from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import optimum
-from ergohandover.landscape.store import landscape_of
 from ergohandover.robustness.margins import margins
 from ergohandover.robustness.posture_error import (
     ANGLE_COLUMNS,
@@ -33,7 +31,6 @@ from ergohandover.study.robustness import (
     without_optimism,
 )
 from ergohandover.twin.evaluate import Evaluator, evaluate
-from ergohandover.twin.task import Boundary
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -190,15 +187,6 @@ def test_resampled_one_size_cells_are_those_of_the_copied_resample():
 def test_resampled_one_size_cells_refuse_scores_that_are_not_whole_numbers():
     with pytest.raises(ValueError, match="whole-number"):
         OneSizeResampler(np.array([[1.5, 2.0]]), np.zeros((2, 3)), 0)
-
-
-@pytest.fixture(scope="module")
-def small_landscape():
-    """A 2 cm landscape of the default worker around the study's optimum (a few hundred
-    points: seconds to sweep)."""
-    evaluator = Evaluator()
-    grid = Grid(Boundary((-0.06, 0.06), (0.94, 1.08), (0.36, 0.46), "test"), 0.02)
-    return evaluator, landscape_of(evaluator, grid)
 
 
 def test_the_robust_optimum_is_no_worse_in_expectation_than_the_nominal_one(small_landscape):
