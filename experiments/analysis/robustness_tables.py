@@ -191,8 +191,8 @@ def regret_table(summary) -> list[str]:
 
 def one_size_table(one_size) -> list[str]:
     lines = ["| score | one-size choice | in sample | re-chosen in the bootstrap, scored on "
-             "the resample (95 %) | scored out of bag (95 %) | held-out half (95 % of splits) "
-             "| optimism |", "|---|---|---|---|---|---|---|"]
+             "the resample (95 % of resamples) | scored out of bag (95 % of resamples) | "
+             "held-out half (95 % of splits) | optimism |", "|---|---|---|---|---|---|---|"]
     for _, r in one_size.iterrows():
         lines.append(f"| {SCORE_NAMES[r['objective']]} | {r['choice']} | "
                      f"{r['in_sample_mean_penalty']:.2f} | {r['rechosen_mean_penalty']:.2f} "

@@ -4,7 +4,7 @@ per joint angle, correlated within a body segment and between the left and right
 :class:`~.posture_error.ErrorModel` (the same SD on every angle, independent) is a stress test:
 with exactly symmetric postures it makes left and right items disagree as often as they can.
 A real instrument errs differently per joint, shares errors between the angles one sensor or
-one keypoint feeds, and is biased for some joints. :data:`MEASURED` holds a published
+one keypoint feeds, and is biased for some joints. :data:`MEASURED_ERROR` holds a published
 comparison of such a method against optical motion capture; :class:`MeasuredError` draws from
 it with the same interface as :class:`~.posture_error.ErrorModel` (``errors(n, rng)``), so
 every Monte Carlo of the package takes either.

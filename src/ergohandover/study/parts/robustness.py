@@ -155,7 +155,9 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
     part = config.robustness
 
     def work(folder: Path) -> dict:
-        seeds = np.random.SeedSequence(part.seed).spawn(6)  # the first five as before
+        # A spawned child does not depend on how many are spawned: the sixth leaves the
+        # first five streams, and so their tables, as they are.
+        seeds = np.random.SeedSequence(part.seed).spawn(6)
         seed = search_seed(part)  # seeds[0]'s
         evaluator = config.evaluator()
         landscape = default_landscape(config, engine)
