@@ -7,12 +7,11 @@ block ``headline-rules``; ``python headline_rules.py`` rewrites it."""
 
 from __future__ import annotations
 
-import re
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
-import people_tables
 import personalise_tables
 import robustness_verdicts
 import stance_tables
@@ -89,8 +88,16 @@ def rules(results: Path) -> dict[str, Rule]:
     sex = planned_sex(tests)
     others = stance[(stance["optimised_location"] == "own optimised") & (stance["score"] == "reba")
                     & (stance["stance"] == "step")]
-    people = people_tables.blocks(results)["people-headline"]
-    personal = personalise_tables.blocks(results)["personalise-headline"]
+    handovers = json.loads((results / "people" / "manifest.json").read_text())
+    dropped = sum(handovers["dropped"].values())
+    advice = pd.read_csv(results / "people" / "recommendation.csv").set_index("score")
+    paper_advice, reba_advice = advice.loc["paper_postural"], advice.loc["reba"]
+    measured_answers = pd.read_csv(results / "personalise" / "measured_summary.csv")
+    inside = measured_answers[measured_answers["model"] == "in-model"]
+    outside = measured_answers[measured_answers["model"] == "out-of-model"]
+    best_in = personalise_tables.best_measured(
+        personalise_tables.own_rule(inside[inside["searcher"] != "random-order"]), "in-model",
+        personalise_tables.HEADLINE_ANSWERS, personalise_tables.equal_budget(measured_answers))
     return {
         "the landscape": Rule(
             ("landscape/stats.csv", "landscape/manifest.json"),
@@ -149,15 +156,18 @@ def rules(results: Path) -> dict[str, Rule]:
             f"{posture_sd:g}° of posture error (95 % Monte Carlo intervals",
             (f"on REBA from only {step['reba']} and on RULA from {step['rula']}",)),
         "beside people": Rule(
-            ("people/",), people.split(" measured handovers")[0] + " measured handovers",
-            re.search(r"quartiles \d+–\d+", people).group(0),
-            ("REBA hardly tells places apart",)),
+            ("people/manifest.json", "people/recommendation.csv", "people/errors.csv"),
+            f"{handovers['handovers']:,} of {handovers['handovers'] + dropped:,} measured "
+            "handovers",
+            f"quartiles {100 * paper_advice['distance_p25_m']:.0f}–"
+            f"{100 * paper_advice['distance_p75_m']:.0f}",
+            (f"{int(reba_advice['optimum_cells']):,} cells, REBA hardly tells places apart",)),
         "personalising": Rule(
             ("personalise/measured_summary.csv",),
-            re.search(r"N = \d+ workers, one run each", personal).group(0),
-            re.search(r"\(\d+%–\d+%\)", personal).group(0),
-            (re.search(r"\d+–\d+% for \d+ workers whose twin differs from the prior's",
-                       personal).group(0),)),
+            f"N = {int(inside['n_workers'].max())} workers, one run each",
+            f"({best_in['ci_low']:.0%}–{best_in['ci_high']:.0%})",
+            (f"for {int(outside['n_workers'].max())} workers whose twin differs from the "
+             "prior's",)),
     }
 
 
