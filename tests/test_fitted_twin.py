@@ -54,10 +54,10 @@ def test_with_scores_only_the_fit_uses_the_scores():
     searcher = make("fitted-twin", GRID, 2, PRIOR, twins=library())
     run(searcher, ArrayScores(GRID, own), Budget(evaluations=FIT + 2))
     assert searcher.postures[:FIT] == [None] * FIT
-    best, misfit = fit(library(), searcher.cells[:FIT], searcher.scores[:FIT],
+    best, misfit = fit(library(), searcher.cells[:FIT], searcher.told_answers[:FIT],
                        [None] * FIT)
     assert searcher.chosen == best and misfit[best] == misfit.min()
-    if np.isfinite(searcher.scores[:FIT]).any():
+    if np.isfinite(searcher.told_answers[:FIT]).any():
         assert misfit[1] == 0  # its own scores explain the handovers exactly
 
 

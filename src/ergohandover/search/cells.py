@@ -46,6 +46,17 @@ class NewCellSearcher(AskTellSearcher):
         self.told: dict[int, float] = {}  # cell -> score (inf: infeasible)
         self._pending: int | None = None
 
+    @property
+    def cells(self) -> list[int]:
+        """The cells it was told about, in order."""
+        return list(self.told)
+
+    @property
+    def told_answers(self) -> list[float]:
+        """What it was told about them, in order (scores, or a preference searcher's
+        preferences)."""
+        return list(self.told.values())
+
     def ask(self) -> int:
         if self._pending is None:
             if len(self.told) >= self.grid.size:

@@ -138,16 +138,6 @@ class FittedTwinSearcher(PriorSearcher):
         self.chosen: int | None = None
         self._order: list[int] = []
 
-    @property
-    def cells(self) -> list[int]:
-        """The cells it was told about, in order."""
-        return list(self.told)
-
-    @property
-    def scores(self) -> list[float]:
-        """Their answers, in order."""
-        return list(self.told.values())
-
     def search(self, evaluations) -> dict:
         self.source = evaluations.source
         super().search(evaluations)
@@ -155,8 +145,8 @@ class FittedTwinSearcher(PriorSearcher):
 
     def _propose(self) -> int:
         if self.chosen is None and len(self.cells) >= FIT and any(
-                math.isfinite(s) for s in self.scores):
-            self.chosen, _ = fit(self.twins, self.cells, self.scores, self.postures)
+                math.isfinite(s) for s in self.told_answers):
+            self.chosen, _ = fit(self.twins, self.cells, self.told_answers, self.postures)
             self._order = self._ranked(self.twins.values(self.chosen))
         if self.chosen is None:
             return super()._propose()

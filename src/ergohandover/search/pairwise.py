@@ -133,26 +133,16 @@ class PairwiseSearcher(NewCellSearcher):
             self._centre, self._sd = prior_point(grid, prior)
             self._sd = np.maximum(self._sd, 1.0)
 
-    @property
-    def cells(self) -> list[int]:
-        """The cells it was told about, in order."""
-        return list(self.told)
-
-    @property
-    def answers_told(self) -> list[float]:
-        """Their answers, in order (the model is refitted to them at every proposal)."""
-        return list(self.told.values())
-
     def recommend(self) -> int | None:
         """The cell it would recommend now (:func:`preferred`)."""
-        best = preferred(self.grid, self.cells, self.answers_told)
+        best = preferred(self.grid, self.cells, self.told_answers)
         return None if best is None else self.cells[best]
 
     def confidence(self, draws: int = 4000) -> float | None:
         """The model's probability that :meth:`recommend`'s location is the best of the
         feasible ones seen (Monte Carlo over its posterior, seeded); None before any
         comparison."""
-        answers = self.answers_told
+        answers = self.told_answers
         feasible = [i for i, a in enumerate(answers) if math.isfinite(a)]
         model = model_of(self.grid, self.cells, answers)
         if model is None or not feasible:
@@ -169,7 +159,7 @@ class PairwiseSearcher(NewCellSearcher):
             first = (self.snap(self._centre) if self.prior is not None
                      else int(self._rng.integers(self.grid.size)))
             return first
-        told, answers = self.cells, self.answers_told
+        told, answers = self.cells, self.told_answers
         model = model_of(self.grid, told, answers)  # one fit serves the choice and the draw
         best = most_preferred(model, answers)
         around = self.index(told[best]) if best is not None else self._centre
