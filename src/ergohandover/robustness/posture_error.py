@@ -96,6 +96,12 @@ def perturbed(posture: Posture, model: ErrorModel, draws: int,
                     else np.repeat(values, draws) for name, values in posture.items()})
 
 
+def angles_of(columns) -> dict[str, float]:
+    """The first row's angles (every angle column of the Posture table) of a Posture or of
+    columns of arrays."""
+    return {a: float(np.asarray(columns[a]).ravel()[0]) for a in ANGLE_COLUMNS}
+
+
 def item_columns(scores: dict[str, np.ndarray]) -> list[str]:
     """The item scores of a score table: every column but the totals and table look-ups."""
     return [c for c in scores if c not in MAIN]

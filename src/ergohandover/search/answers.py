@@ -41,6 +41,7 @@ from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS, PostureError
 from ..errors import ConfigError, ErgohandoverError
 from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
+from ..robustness.posture_error import angles_of
 
 SCORE_RANGES = {"paper_postural": (3, 14), "reba": (1, 15), "reba_ab": (2, 24), "rula": (1, 7)}
 """The lowest and highest value each objective can take. Highest: as
@@ -216,13 +217,6 @@ class AnswerReader:
         if twice:
             raise Refused(f"a posture header line naming {twice[0]!r} twice")
         return tuple(cells)
-
-
-def angles_of(columns) -> dict[str, float]:
-    """The first row's measured angles (every angle column of the Posture table)."""
-    from ..robustness.posture_error import ANGLE_COLUMNS
-
-    return {a: float(np.asarray(columns[a]).ravel()[0]) for a in ANGLE_COLUMNS}
 
 
 PREFERENCES = {"better": -1.0, "b": -1.0, "worse": 1.0, "w": 1.0, "same": 0.0, "s": 0.0}

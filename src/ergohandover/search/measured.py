@@ -34,7 +34,7 @@ from ..ergonomics import Posture, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..errors import ConfigError
 from ..landscape.grid import Grid
-from ..robustness.posture_error import ANGLE_COLUMNS, ErrorModel, perturbed
+from ..robustness.posture_error import ErrorModel, angles_of, perturbed
 from ..twin.evaluate import Evaluator, evaluate_arrays
 
 MEASURED = ("paper_postural", "reba", "reba_ab", "rula")
@@ -77,7 +77,7 @@ class MeasuredScores(ScoreSource):
             return math.inf  # nobody measures a handover the worker cannot take
         measured = perturbed(Posture({c: np.array([v]) for c, v in posture.items()}),
                              self.model, 1, self.rng)
-        self.last_posture = {c: float(measured[c][0]) for c in ANGLE_COLUMNS}
+        self.last_posture = angles_of(measured)
         return float(score_postures(measured, self.evaluator.scoring)[self.objective][0])
 
     def posture(self, flat: int) -> dict[str, float] | None:

@@ -82,12 +82,11 @@ class TwinOracle(Oracle):
 
     def angles(self, cell: int) -> dict[str, float]:
         """The twin's angles at ``cell`` (what a captured frame of it would measure)."""
-        from ..robustness.posture_error import ANGLE_COLUMNS
+        from ..robustness.posture_error import ANGLE_COLUMNS, angles_of
         from ..twin.evaluate import evaluate_arrays
 
-        found = evaluate_arrays(self.scores.grid.coordinates([cell]), self.scores.evaluator,
-                                columns=ANGLE_COLUMNS)
-        return {a: float(found[a][0]) for a in ANGLE_COLUMNS}
+        return angles_of(evaluate_arrays(self.scores.grid.coordinates([cell]),
+                                         self.scores.evaluator, columns=ANGLE_COLUMNS))
 
 
 class ComparingTwin(TwinOracle):
