@@ -71,7 +71,8 @@ class Entry:
         if self.kind not in KINDS or self.prior not in PRIORS or self.answers not in ANSWERS:
             raise ConfigError(f"registry entry {self.name!r}: kind {self.kind!r} (use "
                               f"{', '.join(KINDS)}), prior {self.prior!r} (use "
-                              f"{', '.join(PRIORS)})")
+                              f"{', '.join(PRIORS)}), answers {self.answers!r} (use "
+                              f"{', '.join(ANSWERS)})")
 
     @property
     def unit(self) -> str:
