@@ -10,10 +10,10 @@ from pathlib import Path
 import pandas as pd
 from readme_blocks import rewrite
 from robustness_verdicts import (
-    MEASURED,
     kept,
     measured_counts,
     measured_verdicts,
+    optimum_measured,
     reversal_clauses,
     shortest,
 )
@@ -49,9 +49,7 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
     nominal, robust = paper.loc[("nominal optimum", 5.0)], paper.loc[("robust optimum", 5.0)]
     at5 = comparisons[(comparisons["perturbation"] == "posture error")
                       & (comparisons["angle_sd_deg"] == 5.0)]
-    at_imu = measured["locations"][(measured["locations"]["error_model"] == MEASURED)
-                                   & (measured["locations"]["score"] == "paper_postural")
-                                   ].set_index("location").loc["nominal optimum"]
+    at_imu = optimum_measured(measured)
     model_rows = comparisons[comparisons["perturbation"] == "model variants"]
     rs = regret[(regret["recommendation"] == "nominal optimum")
                 & (regret["score"] == "paper_postural")].set_index("source")
@@ -113,9 +111,7 @@ def headline(locations, comparisons, regret, one_size, measured, personal, varia
     """The README's headline cell: what survives posture error (measured and as a stress
     test), where it reverses, the model variants, the robust location's trade and the
     workers."""
-    at_imu = measured["locations"][(measured["locations"]["error_model"] == MEASURED)
-                                   & (measured["locations"]["score"] == "paper_postural")
-                                   ].set_index("location").loc["nominal optimum"]
+    at_imu = optimum_measured(measured)
     posture = comparisons[comparisons["perturbation"] == "posture error"]
     at = lambda sd: posture[posture["angle_sd_deg"] == sd]  # noqa: E731
     rs = regret[(regret["recommendation"] == "nominal optimum")

@@ -10,10 +10,23 @@ MEASURED = "IMU (Schall et al. 2016)"
 """The measured error model of the headline (``error_model`` in the measured_*.csv)."""
 
 
-def shortest(comparisons, score: str) -> pd.DataFrame:
-    """The nominal optimum against each start's shortest-distance location, for one score."""
-    return comparisons[(comparisons["a"] == "nominal optimum") & (comparisons["score"] == score)
+def shortest(comparisons, score: str | None = None) -> pd.DataFrame:
+    """The nominal optimum against each start's shortest-distance location, for one score (or
+    every score)."""
+    rows = comparisons[(comparisons["a"] == "nominal optimum")
                        & comparisons["b"].str.startswith("shortest")]
+    return rows if score is None else rows[rows["score"] == score]
+
+
+def optimum_measured(measured) -> pd.Series:
+    """The nominal optimum's paper score under the headline model (measured_locations.csv)."""
+    rows = headline_model(measured)["locations"]
+    return rows[rows["score"] == "paper_postural"].set_index("location").loc["nominal optimum"]
+
+
+def headline_model(measured) -> dict[str, pd.DataFrame]:
+    """The measured tables' rows of the headline model (:data:`MEASURED`)."""
+    return {name: table[table["error_model"] == MEASURED] for name, table in measured.items()}
 
 
 def kept(rows) -> str:
@@ -22,7 +35,7 @@ def kept(rows) -> str:
 
 
 REVERSAL_SCORES = {"paper_postural": "paper score", "reba": "REBA", "rula": "RULA"}
-MODEL_PHRASES = {"IMU (Schall et al. 2016)": "with the IMU's error",
+MODEL_PHRASES = {MEASURED: "with the IMU's error",
                  "IMU, uncorrelated": "with the IMU's error uncorrelated",
                  "IMU, SDs ×0.5": "with the IMU's SDs halved",
                  "IMU, SDs ×1.5": "with the IMU's SDs ×1.5"}
@@ -45,13 +58,12 @@ def reversal_clauses(comparisons, measured) -> list[str]:
         measured["comparisons"].assign(
             condition=lambda f: f["error_model"].map(lambda m: MODEL_PHRASES.get(m, m)),
             kind=1)], ignore_index=True)
-    worse = rows[(rows["a"] == "nominal optimum") & rows["b"].str.startswith("shortest")
-                 & (rows["ci_low"] > 0)]
+    worse = shortest(rows)
+    worse = worse[worse["ci_low"] > 0]
     clauses = []
     for score, label in REVERSAL_SCORES.items():
         mine = worse[worse["score"] == score]
-        starts = mine.groupby(["kind", "condition"], sort=False)["b"].agg(
-            lambda b: ", ".join(x.rsplit(" ", 1)[1] for x in b))
+        starts = mine.groupby(["kind", "condition"], sort=False)["b"].agg(_starts)
         by_starts: dict[str, list[tuple[int, str]]] = {}
         for (kind, condition), where in starts.items():
             by_starts.setdefault(where, []).append((kind, condition))
@@ -64,9 +76,9 @@ def reversal_clauses(comparisons, measured) -> list[str]:
     return clauses
 
 
-def _starts(rows) -> str:
-    """``1, 2``: the start numbers of comparisons with shortest-distance locations."""
-    return ", ".join(b.rsplit(" ", 1)[1] for b in rows["b"])
+def _starts(locations) -> str:
+    """``1, 2``: the start numbers of shortest-distance locations (``b`` of comparisons)."""
+    return ", ".join(b.rsplit(" ", 1)[1] for b in locations)
 
 
 def start_verdicts(rows) -> str:
@@ -80,19 +92,19 @@ def start_verdicts(rows) -> str:
     if len(worse):
         low, high = worse["difference"].min(), worse["difference"].max()
         size = f"{low:+.2f}" if len(worse) == 1 else f"{low:+.2f} to {high:+.2f}"
-        parts.append(f"worse from start{'s' if len(worse) > 1 else ''} {_starts(worse)} "
+        parts.append(f"worse from start{'s' if len(worse) > 1 else ''} {_starts(worse['b'])} "
                      f"({size})")
     if len(same):
-        parts.append(f"not distinguishable from {_starts(same)}")
+        parts.append(f"not distinguishable from {_starts(same['b'])}")
     if len(better):
-        parts.append(f"better from {_starts(better)}")
+        parts.append(f"better from {_starts(better['b'])}")
     return ", ".join(parts)
 
 
 def measured_verdicts(measured) -> str:
     """The optimum against the shortest-distance locations under the measured error, per
     score."""
-    imu = measured["comparisons"][measured["comparisons"]["error_model"] == MEASURED]
+    imu = headline_model(measured)["comparisons"]
     return (f"on the paper score it is {start_verdicts(shortest(imu, 'paper_postural'))}, on "
             f"REBA {start_verdicts(shortest(imu, 'reba'))} and on RULA "
             f"{start_verdicts(shortest(imu, 'rula'))}")
@@ -101,7 +113,7 @@ def measured_verdicts(measured) -> str:
 def measured_counts(measured) -> str:
     """How many starts the optimum beats under the measured error, per score, with the starts
     it cannot be told from on the paper score."""
-    imu = measured["comparisons"][measured["comparisons"]["error_model"] == MEASURED]
+    imu = headline_model(measured)["comparisons"]
     paper = shortest(imu, "paper_postural")
     unclear = paper[~paper["survives"] & (paper["ci_low"] <= 0)]
     better = lambda rows: int(rows["survives"].sum())  # noqa: E731
