@@ -38,12 +38,14 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from ...ergonomics import Posture, ScoringSettings
 from ...io.atomic import atomic_write_csv
 from ...robustness.margins import margin_table
 from ...robustness.measured_error import MEASURED_ERROR, MEASURED_VARIANTS
 from ...robustness.posture_error import SCORES, ErrorModel, monte_carlo
 from ...robustness.search import largest_margin, placement, postures_at
 from ...scene.robot import RobotSpec
+from ...twin.evaluate import Evaluator
 from ..baselines import PAPER_STARTS, compare
 from ..config import RobustnessConfig, StudyConfig
 from ..engines import Engine
@@ -84,24 +86,29 @@ def headline_locations(results: Path, nominal: np.ndarray, robust: np.ndarray,
     return pd.DataFrame(rows, columns=["location", "x", "y", "z"])
 
 
-def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessConfig,
-                   models: list[tuple[dict, object, np.random.Generator]]) -> dict[
-                       str, pd.DataFrame]:
-    """The headline locations under posture error: their score distributions, item flips and
-    margins, and the comparisons between them, for each error model (``models``: the columns
-    that label it in the tables, the model, its generator)."""
-    evaluator = config.evaluator()
+def named_postures(named: pd.DataFrame, evaluator: Evaluator) -> Posture:
+    """The twin's posture at every headline location (each one it must be able to take)."""
     posture, feasible = postures_at(named[["x", "y", "z"]].to_numpy(float), evaluator)
     if not feasible.all():
         bad = named["location"][~feasible].tolist()
         raise RuntimeError(f"the twin cannot take the box at {bad}")
+    return posture
+
+
+def posture_tables(named: pd.DataFrame, posture: Posture, settings: ScoringSettings,
+                   part: RobustnessConfig,
+                   models: list[tuple[dict, object, np.random.Generator]]) -> dict[
+                       str, pd.DataFrame]:
+    """The headline locations' postures under posture error: their score distributions and
+    item flips, and the comparisons between them, for each error model (``models``: the
+    columns that label it in the tables, the model, its generator); ``settings``: the
+    twin's scoring settings."""
     tables, flips, compared = [], [], []
     pairs = [(a, b) for a in ("nominal optimum", "robust optimum")
              for b in named["location"] if b.startswith(("shortest", "practice"))]
     index = {name: i for i, name in enumerate(named["location"])}
     for labels, model, rng in tqdm(models, desc="posture error", unit="model"):
-        mc = monte_carlo(posture, model, part.draws, rng, keep=True,
-                         settings=evaluator.scoring)
+        mc = monte_carlo(posture, model, part.draws, rng, keep=True, settings=settings)
         table = mc.table(named["location"]).merge(named, on="location")
         tables.append(table.assign(**labels))
         for item, share in mc.flips.items():
@@ -117,9 +124,6 @@ def posture_tables(named: pd.DataFrame, config: StudyConfig, part: RobustnessCon
                "p_nominal_or_better", "q05", "q95", "draws"]
     return {"locations": pd.concat(tables, ignore_index=True)[columns],
             "flips": pd.concat(flips, ignore_index=True),
-            "margins": margin_table(posture, named["location"],
-                                    settings=evaluator.scoring).merge(
-                named, on="location"),
             "comparisons": pd.DataFrame(compared)}
 
 
@@ -171,16 +175,18 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         practice = practice_location(evaluator, evaluator.body.elbow_height_m)
         named = headline_locations(results, nominal, robust.location, margin.location,
                                    practice)
-        tables = posture_tables(named, config, part, [
+        posture = named_postures(named, evaluator)
+        tables = posture_tables(named, posture, evaluator.scoring, part, [
             ({"angle_sd_deg": sd, "structure": part.structure},
              ErrorModel(sd, part.structure), np.random.default_rng(s))
             for sd, s in zip(part.angle_sds, seeds[1].spawn(len(part.angle_sds)), strict=True)])
         models = (MEASURED_ERROR, *MEASURED_VARIANTS.values())
-        measured = posture_tables(named, config, part, [
+        measured = posture_tables(named, posture, evaluator.scoring, part, [
             ({"error_model": model.name}, model, np.random.default_rng(s))
             for model, s in zip(models, seeds[5].spawn(len(models)), strict=True)])
-        tables |= {f"measured_{name}": measured[name]
-                   for name in ("locations", "flips", "comparisons")}
+        tables |= {f"measured_{name}": table for name, table in measured.items()}
+        tables["margins"] = margin_table(posture, named["location"],
+                                         settings=evaluator.scoring).merge(named, on="location")
         tables["measured_error"] = MEASURED_ERROR.table().assign(
             within_segment=MEASURED_ERROR.within_segment,
             between_sides=MEASURED_ERROR.between_sides, source=MEASURED_ERROR.source)
