@@ -52,7 +52,7 @@ STUDY_DEFAULTS = {
 MODEL = {"evaluate", "robustness", "sweep", "train", "baseline", "view"}
 SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view", "personalise"},
              "step": {"sweep", "train", "baseline", "view", "personalise"},
-             "gaze": MODEL | {"personalise"}, "percentile": MODEL | {"personalise"},
+             "gaze": MODEL | {"personalise"}, "percentile": MODEL | {"personalise", "score"},
              "trunk_reference": MODEL | {"personalise"},
              "solver": {"evaluate", "robustness", "sweep", "personalise"},
              "seed": {"train", "baseline", "robustness", "personalise", "score"},

@@ -7,8 +7,8 @@ import ast
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "ergohandover"
-LAYERS = ("ergonomics", "io", "twin", "capture", "scene", "landscape", "robustness", "envs",
-          "search", "viewer", "study", "cli")
+LAYERS = ("ergonomics", "io", "twin", "workload", "capture", "scene", "landscape", "robustness",
+          "envs", "search", "viewer", "study", "cli")
 TOP_LEVEL = {"__init__.py", "errors.py", "ranges.py", "frames.py", "sim.py", "executor.py"}
 
 

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 import numpy as np
+import pandas as pd
 from tqdm import tqdm
 
 from ..io.atomic import atomic_write_csv
@@ -24,8 +25,10 @@ from ..twin.stance import after_step
 from .options import (
     add_evaluator_arguments,
     add_gui_argument,
+    add_lift_arguments,
     add_workers_argument,
     evaluator_from_args,
+    lift_from_args,
     run_folder,
     writable,
 )
@@ -36,7 +39,8 @@ Evaluate box locations: for each row of --points (columns x, y, z: the box centr
 frame, metres; x to the worker's right, y up, z forward) the twin grips both handles; its
 posture, feasibility ({', '.join(REASONS)}) and every score are written to
 --output (the Evaluation CSV, whose columns docs/architecture.md lists under "File contracts";
-scores are empty where infeasible)."""
+scores are empty where infeasible), then OWAS, the revised NIOSH lifting equation for a lift
+from the box's location to --lift-destination, and the static back load (docs/workload.md)."""
 
 LOCATION = "a finite coordinate in metres"
 POINTS_HELP = "box locations: columns x, y, z [m], worker frame; - for stdin"
@@ -53,6 +57,7 @@ def add_parser(subparsers) -> None:
                         "needed), or - for standard output (default: "
                         "runs/evaluate/<timestamp>/evaluation.csv)")
     add_evaluator_arguments(parser)
+    add_lift_arguments(parser)
     parser.add_argument("--render", metavar="DIR", type=output_folder,
                         help="also write one PNG per point into DIR (created if needed)")
     add_gui_argument(parser, "the first point: the worker in its solved posture holding the box "
@@ -101,15 +106,22 @@ def show_in_window(evaluator: Evaluator, location: np.ndarray, q: np.ndarray, ro
 def run(args: argparse.Namespace) -> int:
     if args.gui:  # before any work: without a display nothing is computed or written
         require_display("--gui")
+    from ..workload import Levers, workload_table
+
     evaluator = evaluator_from_args(args)
+    lift = lift_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:
         table = evaluate(points, evaluator, workers=args.workers, progress=bar.update,
                          joints=args.render is not None or args.gui)
     output = args.output or str(run_folder("evaluate") / "evaluation.csv")
-    # The Evaluation CSV, and how far the feet stepped for a worker who may step.
-    columns = [*EVALUATION_COLUMNS, *(["step_m"] if "step_m" in table else [])]
+    # OWAS, the lifting equation and the back load where the twin holds the box.
+    work = workload_table(table, Levers.of(evaluator.body), lift,
+                          rows=table["feasible"].to_numpy(dtype=bool))
+    table = pd.concat([table, work], axis=1)
+    # The Evaluation CSV, how far the feet stepped for a worker who may step, the workload.
+    columns = [*EVALUATION_COLUMNS, *(["step_m"] if "step_m" in table else []), *work.columns]
     if output == "-":
         table[columns].to_csv(sys.stdout, index=False)
     else:

@@ -70,6 +70,7 @@ def dataclass_from_args(cls: type[T], args: argparse.Namespace) -> T:
 
 def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """``--percentile``, ``--stature``, ``--mass``, ``--sex``: the worker's size."""
+    from ..workload.manikins import MANIKINS
     from ..twin.anthropometry import MASS_RANGE_KG, PERCENTILES, SEXES, STATURE_RANGE_M
 
     names = sorted(PERCENTILES)
@@ -77,6 +78,9 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--percentile", type=choice(names), default=defaults.PERCENTILE,
                        metavar="|".join(names), help="a named ANSUR II percentile: stature, "
                        f"mass and sex together (default: {defaults.PERCENTILE})")
+    group.add_argument("--manikin", type=choice(tuple(MANIKINS)), metavar="|".join(MANIKINS),
+                       help="a standard boundary manikin instead of --percentile: the 5th-"
+                       "percentile woman (f05), the 50th woman, the 50th man, the 95th man")
     group.add_argument("--stature", type=number(*STATURE_RANGE_M, "m"), metavar="M",
                        help=f"stature [m], {rule(*STATURE_RANGE_M)} (default: the "
                        "percentile's)")
@@ -91,12 +95,32 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
 def body_from_args(args: argparse.Namespace):
     """The BodySpec the flags describe: the percentile, then any explicit overrides, then the
     worker's own measurements (:mod:`.measurements`)."""
+    from ..workload.manikins import MANIKINS
     from ..twin.anthropometry import BodySpec
 
+    if args.manikin is not None and "percentile" in given(args):
+        raise InputError(f"--manikin {args.manikin} and --percentile {args.percentile} both "
+                         "given: give one (a manikin is a named percentile)")
+    named = MANIKINS[args.manikin] if args.manikin is not None else args.percentile
     overrides = {field: getattr(args, flag[2:]) for field, flag in BODY_FLAGS.items()
                  if flag[2:] in ("stature", "mass", "sex") and getattr(args, flag[2:]) is not None}
-    base = model(dataclasses.replace, BodySpec.from_percentile(args.percentile), **overrides)
+    base = model(dataclasses.replace, BodySpec.from_percentile(named), **overrides)
     return model(measured_body, args, base)
+
+
+def add_lift_arguments(parser: argparse.ArgumentParser) -> None:
+    """One flag per :class:`~ergohandover.workload.lifting.LiftTask` field: what the lifting
+    equation needs beyond the box's location."""
+    from ..workload.lifting import LiftTask
+
+    add_dataclass_arguments(parser, LiftTask, "lifting task (the revised NIOSH equation)")
+
+
+def lift_from_args(args: argparse.Namespace):
+    """The LiftTask the lifting flags describe."""
+    from ..workload.lifting import LiftTask
+
+    return dataclass_from_args(LiftTask, args)
 
 
 def add_task_arguments(parser: argparse.ArgumentParser) -> None:
@@ -119,7 +143,7 @@ def model_flags() -> list[str]:
     """The destinations of every flag that describes the worker, the task and the model."""
     from ..twin.task import TaskSpec
 
-    return ["percentile", "stature", "mass", "sex", "elbow_height", "arm_length",
+    return ["percentile", "manikin", "stature", "mass", "sex", "elbow_height", "arm_length",
             "shoulder_height", "measurements", "proportions", *(f.name for f in dataclasses.fields(
         TaskSpec)), "solver", "trunk_reference"]
 

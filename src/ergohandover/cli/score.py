@@ -16,7 +16,17 @@ from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError
 from ..io.posture_csv import read_postures
 from . import defaults
-from .options import add_dataclass_arguments, dataclass_from_args, run_folder, writable
+from .options import (
+    add_body_arguments,
+    add_dataclass_arguments,
+    add_lift_arguments,
+    body_from_args,
+    dataclass_from_args,
+    lift_from_args,
+    model_flags,
+    run_folder,
+    writable,
+)
 from .parser import given
 from .values import BadValue, choice, existing_file, number, output_file, whole
 
@@ -139,6 +149,9 @@ def add_parser(subparsers) -> None:
                          help="the load handled (default: 0 kg), as --assume load_kg=KG")
     add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
                             "open)")
+    # With --input: the body whose segments the back load weighs, and the lift.
+    add_body_arguments(parser)
+    add_lift_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -152,6 +165,13 @@ def run(args: argparse.Namespace) -> int:
     elif args.format is None:
         raise InputError("--keypoints needs --format (h36m17, coco17, mediapipe33, zed34, "
                          "smpl24 or bvh)")
+    if args.input is None:
+        workload = [f for f in (*model_flags(), "lift_frequency", "lift_duration",
+                                "lift_destination") if f in flags]
+        if workload:
+            raise InputError(f"--{workload[0].replace('_', '-')} cannot be used with "
+                             f"--{'keypoints' if args.keypoints else 'items'} (only with "
+                             "--input: the workload columns need every angle)")
     settings = dataclass_from_args(ScoringSettings, args)
     if args.keypoints is not None:
         table, what = keypoint_scores(args, settings)
@@ -161,8 +181,11 @@ def run(args: argparse.Namespace) -> int:
         name = "standard input" if args.input == "-" else args.input
         text, posture = read_postures(args.input, what=name)
         scores = pd.DataFrame(score_postures(posture, settings))
-        passthrough = text.drop(columns=[c for c in text.columns if c in SCORE_COLUMNS])
-        table, what = pd.concat([passthrough, scores], axis=1), f"{len(text)} postures"
+        work = input_workload(text, posture, args)
+        passthrough = text.drop(columns=[c for c in text.columns
+                                         if c in SCORE_COLUMNS or c in work.columns])
+        table = pd.concat([passthrough, scores, work], axis=1)
+        what = f"{len(text)} postures"
     # Only now, everything read and scored: a bad input leaves no folder behind.
     output = args.output or str(run_folder("score") / "scores.csv")
     if output == "-":
@@ -171,6 +194,29 @@ def run(args: argparse.Namespace) -> int:
         atomic_write_csv(table, writable(output))
         print(f"scored {what} -> {output}", file=sys.stderr)
     return 0
+
+
+def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace) -> pd.DataFrame:
+    """OWAS, the back load of the body the flags describe and, where the file gives the box's
+    location (``x, y, z``, worker frame), the lifting equation."""
+    from ..workload import Levers, workload_table
+
+    table = pd.DataFrame({name: posture[name] for name in posture})
+    located = [c for c in ("x", "y", "z") if c in text.columns]
+    if located and len(located) < 3:
+        missing = sorted({"x", "y", "z"} - set(located))
+        raise InputError(f"{args.input}: has {', '.join(located)} but not {', '.join(missing)} "
+                         "(the box's location needs all three, or none)")
+    for c in located:
+        values = pd.to_numeric(text[c], errors="coerce").to_numpy(dtype=float)
+        floor = c == "y"  # the hands' height: above the floor
+        bad = np.flatnonzero(~np.isfinite(values) | ((values < 0) if floor else False))
+        if bad.size:
+            allowed = "a height in metres >= 0" if floor else "a finite coordinate in metres"
+            raise InputError(f"{args.input}: row {bad[0] + 1}, column '{c}': "
+                             f"{text[c].iloc[bad[0]]} is not allowed (expected {allowed})")
+        table[c] = values
+    return workload_table(table, Levers.of(body_from_args(args)), lift_from_args(args))
 
 
 def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings

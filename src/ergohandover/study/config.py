@@ -32,6 +32,7 @@ from .config_measured import (
     measured_data_version,
 )
 from .config_personalise import PersonaliseConfig
+from .config_workplace import AccommodationConfig, ManikinsConfig
 from .typed_json import from_json, setting, short
 from .workforce import Workforce
 
@@ -262,11 +263,16 @@ class StanceConfig:
 READS = {"baselines": ("learning",),
          "robustness": ("learning", "baselines", "participants", "population", "sensitivity"),
          "personalise": ("population",),
-         "stance": ("learning", "baselines", "participants")}
+         "stance": ("learning", "baselines", "participants"),
+         "manikins": ("learning", "baselines", "participants", "population", "sensitivity",
+                      "robustness"),
+         "accommodation": ("learning", "baselines", "participants", "population",
+                           "sensitivity", "robustness")}
 """Parts that read another part's results besides the landscape's: the baselines carry the box
 to the location the learner found; the robustness part reads the baselines' locations, the
 population's one-size locations and the landscapes of the participants, workers and variants;
-the personalisation part reads the population's workers and their optima (the prior)."""
+the personalisation part reads the population's workers and their optima (the prior); the
+manikins and accommodation parts read the robustness part's headline locations."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -286,6 +292,8 @@ class StudyConfig:
     stance: StanceConfig = setting(StanceConfig())
     capture: CaptureConfig = setting(CaptureConfig())
     people: PeopleConfig = setting(PeopleConfig())
+    manikins: ManikinsConfig = setting(ManikinsConfig())
+    accommodation: AccommodationConfig = setting(AccommodationConfig())
 
     def __post_init__(self):
         learning = self.learning

@@ -10,7 +10,8 @@ import importlib
 from types import ModuleType
 
 PARTS = ("landscape", "learning", "baselines", "ablations", "participants", "population",
-         "sensitivity", "validation", "robustness", "stance", "personalise", "capture", "people")
+         "sensitivity", "validation", "robustness", "stance", "personalise", "capture", "people",
+         "manikins", "accommodation")
 """Every part, in the order ``run_all`` runs them (a part after those it reads)."""
 
 

@@ -1,0 +1,70 @@
+"""What a practitioner's tools report beside REBA and RULA — OWAS posture codes, the revised
+NIOSH lifting equation, static low-back load with the share of strength it takes — and the
+standard manikins they run on (:mod:`.manikins`).
+
+These are computed from an Evaluation's or a Posture CSV's columns after scoring and are never
+stored in a landscape, so they live outside :mod:`ergohandover.ergonomics`, whose source is part
+of every landscape's key (docs/workload.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ..ergonomics import Posture
+from ..ergonomics.posture import POSTURE_COLUMNS
+from .back import COLUMNS as BACK_COLUMNS
+from .back import Levers, back_load
+from .lifting import COLUMNS as LIFT_COLUMNS
+from .lifting import LiftError, LiftTask, lift_at
+from .owas import COLUMNS as OWAS_COLUMNS
+from .owas import owas
+
+WORKLOAD_COLUMNS = (*OWAS_COLUMNS, *LIFT_COLUMNS, *BACK_COLUMNS)
+"""Every column :func:`workload` gives, in order (the lifting columns only with locations)."""
+
+
+def workload(posture: Posture, levers: Levers, locations: np.ndarray | None = None,
+             lift: LiftTask | None = None) -> dict[str, np.ndarray]:
+    """OWAS, the lifting equation at ``locations`` (N, 3) [m, worker frame] when given, and
+    the back load of N postures of the body with ``levers``."""
+    out = owas(posture)
+    if locations is not None:
+        out |= lift_at(locations, posture["load_kg"], posture["coupling"], lift or LiftTask())
+    return out | back_load(posture, levers)
+
+
+def workload_table(table: pd.DataFrame, levers: Levers, lift: LiftTask | None = None,
+                   rows: np.ndarray | None = None) -> pd.DataFrame:
+    """:func:`workload` of a table with the Posture columns (an Evaluation, a Posture CSV):
+    with the lifting columns when it has the location columns ``x, y, z``; only at ``rows``
+    (a boolean mask, e.g. the feasible rows; every row if omitted), empty elsewhere."""
+    rows = np.ones(len(table), dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
+    chosen = table[rows]
+    posture = Posture({c: chosen[c].to_numpy(dtype=float) for c in POSTURE_COLUMNS
+                       if c in chosen})
+    located = {"x", "y", "z"} <= set(table.columns)
+    found = workload(posture, levers,
+                     chosen[["x", "y", "z"]].to_numpy(dtype=float) if located else None, lift)
+    out = {}
+    for name, values in found.items():
+        # Codes and bands stay whole numbers; an empty cell is pandas' missing integer.
+        kind = "Int64" if np.issubdtype(values.dtype, np.integer) else float
+        column = pd.Series(pd.NA if kind == "Int64" else np.nan, index=table.index, dtype=kind)
+        column[rows] = values
+        out[name] = column
+    return pd.DataFrame(out, index=table.index)
+
+
+__all__ = [
+    "WORKLOAD_COLUMNS",
+    "Levers",
+    "LiftError",
+    "LiftTask",
+    "back_load",
+    "lift_at",
+    "owas",
+    "workload",
+    "workload_table",
+]
