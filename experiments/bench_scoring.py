@@ -1,7 +1,9 @@
 """Benchmark: score 1 M random postures with REBA + RULA + the paper's score; print postures/s.
 Then the same under posture-measurement error: 250 postures x 4,000 measured copies each (1 M
 measured postures, as the robustness part scores a location) through the Monte Carlo, whose
-rate is printed as a ratio to plain scoring measured in the same run.
+rate is printed as a ratio to plain scoring measured in the same run. Last, OWAS, the static
+back load and the revised NIOSH lifting equation on the same postures, each as a ratio to REBA
+alone in the same run.
 
 Usage: python experiments/bench_scoring.py [--postures N] [--repeats K] [--seed S]
                                            [--locations L] [--draws D]
@@ -24,8 +26,11 @@ import time
 
 import numpy as np
 
-from ergohandover.ergonomics import Posture, score_postures
+from ergohandover.ergonomics import Posture, ScoringSettings, score_postures
+from ergohandover.ergonomics.reba import reba
 from ergohandover.robustness.posture_error import ErrorModel, expected_scores, monte_carlo
+from ergohandover.twin.anthropometry import BodySpec
+from ergohandover.workload import Levers, LiftTask, back_load, lift_at, owas
 
 TARGET_PER_S = 2_000_000
 
@@ -76,6 +81,36 @@ def main() -> None:
         rate = measured / statistics.median(times)
         print(f"{name}: median {rate:,.0f} measured postures/s, "
               f"{rate / (args.postures / median):.2f} x plain scoring")
+    workload(posture, args)
+
+
+def median_rate(run, n: int, repeats: int) -> float:
+    """Items a second of the median of ``repeats`` timed calls of ``run``."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    return n / statistics.median(times)
+
+
+def workload(posture: Posture, args: argparse.Namespace) -> None:
+    """OWAS, the static back load and the lifting equation on the same postures, each as a
+    ratio to REBA alone timed in the same run."""
+    settings, levers = ScoringSettings(), Levers.of(BodySpec())
+    rng = np.random.default_rng(args.seed)
+    locations = np.column_stack([rng.uniform(-0.3, 0.3, posture.n),
+                                 rng.uniform(0.5, 1.6, posture.n),
+                                 rng.uniform(0.2, 0.7, posture.n)])
+    reba_rate = median_rate(lambda: reba(posture, settings), posture.n, args.repeats)
+    print(f"\nworkload beside REBA alone ({reba_rate:,.0f} postures/s), "
+          f"{posture.n:,} postures, median of {args.repeats}:")
+    for name, run in (("OWAS", lambda: owas(posture)),
+                      ("static back load", lambda: back_load(posture, levers)),
+                      ("lifting equation", lambda: lift_at(locations, posture["load_kg"],
+                                                           posture["coupling"], LiftTask()))):
+        rate = median_rate(run, posture.n, args.repeats)
+        print(f"{name}: {rate:,.0f} postures/s, {rate / reba_rate:.2f} x REBA")
 
 
 if __name__ == "__main__":

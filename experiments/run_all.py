@@ -71,7 +71,7 @@ PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning
                 "population": "fig_population", "sensitivity": "fig_sensitivity",
                 "validation": "fig_validation", "robustness": "fig_robustness",
                 "personalise": "fig_personalise", "capture": "fig_capture",
-                "people": "fig_people"}
+                "people": "fig_people", "accommodation": "fig_accommodation"}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 

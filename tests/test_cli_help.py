@@ -49,12 +49,12 @@ STUDY_DEFAULTS = {
     "episode_end": STUDY.learning.episode_end, "seed": STUDY.baselines.seed,
     "solver": STUDY_EVALUATOR.solver, "trunk_reference": STUDY_EVALUATOR.trunk_reference}
 """Each shared flag's default as the study has it (read here from the study, not the CLI)."""
-MODEL = {"evaluate", "robustness", "sweep", "train", "baseline", "view"}
+MODEL = {"evaluate", "robustness", "sweep", "train", "baseline", "view", "report"}
 SHARED_BY = {"boundary": {"sweep", "train", "baseline", "view", "personalise"},
              "step": {"sweep", "train", "baseline", "view", "personalise"},
              "gaze": MODEL | {"personalise"}, "percentile": MODEL | {"personalise", "score"},
              "trunk_reference": MODEL | {"personalise"},
-             "solver": {"evaluate", "robustness", "sweep", "personalise"},
+             "solver": {"evaluate", "robustness", "sweep", "personalise", "report"},
              "seed": {"train", "baseline", "robustness", "personalise", "score"},
              "objective": {"train", "personalise"}, "episode_end": {"train"}}
 COMMAND_DEFAULTS = {("personalise", "boundary"): STUDY.population.boundary,
@@ -97,11 +97,11 @@ def test_a_shared_flag_has_the_studys_default_in_every_command_and_its_help(dest
 @pytest.mark.parametrize("command", sorted(MODEL))
 def test_without_flags_a_command_models_the_studys_worker_task_and_grid(command):
     required = {"evaluate": ["--points", "p.csv"], "robustness": ["--points", "-"],
-                "train": ["--agent", "random-draws"]}
+                "train": ["--agent", "random-draws"], "report": ["--location", "0,1,0.4"]}
     args = build_parser().parse_args([command, *required.get(command, [])])
     evaluator = evaluator_from_args(args)
     assert evaluator == STUDY_EVALUATOR
-    if command in ("evaluate", "robustness"):
+    if command in ("evaluate", "robustness", "report"):  # given locations, no grid
         return
     grid = grid_from_args(evaluator, args.boundary, args.step)
     assert grid == grid_of(STUDY_EVALUATOR, STUDY.landscape.boundary, STUDY.landscape.step)
@@ -200,7 +200,7 @@ def field_rule(cls, name: str) -> str:
 
 OUTPUT = {"score": "file", "evaluate": "file", "robustness": "file", "baseline": "file",
           "sweep": "dir", "train": "dir", "landscape-stats": "dir", "view": "file",
-          "personalise": "dir"}
+          "personalise": "dir", "report": "dir"}
 OUTPUT_FLAG = {"view": "--export"}  # the viewer serves; what it writes is a recording
 BAD_FLAGS = [
     (["evaluate", "--points", "POINTS", "--stature", "-1.7"],

@@ -13,6 +13,8 @@ from cli_run import run_cli
 
 from ergohandover.cli import main
 from ergohandover.ergonomics import MAIN_SCORE_COLUMNS, SCORE_COLUMNS
+from ergohandover.workload.back import COLUMNS as BACK_COLUMNS
+from ergohandover.workload.owas import COLUMNS as OWAS_COLUMNS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "postures.csv"
 
@@ -24,7 +26,9 @@ def test_scores_the_example_and_keeps_every_input_column(tmp_path):
     assert main(["score", "--input", str(EXAMPLE), "--output", str(out)]) == 0
     table = pd.read_csv(out)
     source = pd.read_csv(EXAMPLE)
-    assert list(table.columns) == [*source.columns, *SCORE_COLUMNS]
+    # Then OWAS and the back load (no lifting columns: the file gives no box location).
+    assert list(table.columns) == [*source.columns, *SCORE_COLUMNS, *OWAS_COLUMNS,
+                                   *BACK_COLUMNS]
     pd.testing.assert_frame_equal(table[source.columns], source)
     assert table["reba"].tolist() == [1, 9, 9]
     assert table["rula"].tolist() == [3, 7, 7]
@@ -40,7 +44,7 @@ def test_stdin_to_stdout_through_the_console_entry():
                             text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.strip().splitlines()
-    assert len(lines) == 4 and lines[0].endswith("paper_right_arm")
+    assert len(lines) == 4 and lines[0].endswith(BACK_COLUMNS[-1])
 
 
 def test_settings_flags_change_the_scores(tmp_path):

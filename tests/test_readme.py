@@ -23,6 +23,7 @@ import population_tables  # noqa: E402
 import readme_blocks  # noqa: E402
 import robustness_tables  # noqa: E402
 import stance_tables  # noqa: E402
+import workload_tables  # noqa: E402
 
 
 def bash_blocks(text: str) -> list[str]:
@@ -253,6 +254,9 @@ def expected() -> dict[str, tuple[list[str], list[str]]]:
     block = personalise_tables.blocks(RESULTS)["personalise-headline"]
     rows["personalising"] = ([], [f"<!-- personalise-headline -->{block}"
                                   f"<!-- /personalise-headline -->"])
+    block = workload_tables.blocks(RESULTS)["accommodation-headline"]
+    rows["a workforce's zone"] = ([], [f"<!-- accommodation-headline -->{block}"
+                                       f"<!-- /accommodation-headline -->"])
     return rows
 
 

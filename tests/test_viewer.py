@@ -208,6 +208,30 @@ def test_the_landscape_can_be_coloured_by_the_score_expected_under_posture_error
         viewer.score.value = "paper_postural"
 
 
+def test_the_accommodation_zone_is_a_layer_of_the_cells_that_serve_the_share():
+    from ergohandover.viewer.cloud import zone_cloud
+
+    cells = pd.DataFrame({"x": [0.0, 0.1, 0.2], "y": [1.0, 1.0, 1.0], "z": [0.4, 0.4, 0.4],
+                          "exact_share": [0.95, 0.5, 0.9], "measured_share": [0.6, 0.2, 0.7]})
+    evaluator = Evaluator()
+    landscape = landscape_of(evaluator, Grid(_boundary(evaluator), 0.08))
+    shown = HandoverViewer(evaluator, landscape, {"optimum": GOOD}, [],
+                           start_server("127.0.0.1", free_port()), zone=cells)
+    try:
+        assert zone_cloud(cells, "exact_share", 0.9).values.tolist() == [0.95, 0.9]
+        np.testing.assert_allclose(zone_cloud(cells, "exact_share", 0.9).points,
+                                   worker_to_world(cells[["x", "y", "z"]].to_numpy()[[0, 2]]),
+                                   atol=1e-6)
+        assert len(zone_cloud(cells, "measured_share", 0.9).points) == 0
+        assert len(shown.draw_zone().points) == 0  # unticked: nothing drawn
+        shown.zone_shown.value = True  # the checkbox draws the layer at the slider's share
+        shown.zone_share.value = 0.55
+        shown.zone_kind.value = "as measured"
+        assert shown.draw_zone().values.tolist() == [0.6, 0.7]
+    finally:
+        shown.close()
+
+
 @pytest.mark.skipif(not PATHS.is_dir(), reason="no committed carries")
 def test_a_carry_plays_back_its_path(viewer):
     name = "start1_optimised"

@@ -15,6 +15,7 @@ import pandas as pd
 import personalise_tables
 import robustness_verdicts
 import stance_tables
+import workload_tables
 from learning_tables import CEILING, verdicts
 from population_tables import planned_sex
 from readme_blocks import rewrite
@@ -98,6 +99,8 @@ def rules(results: Path) -> dict[str, Rule]:
     best_in = personalise_tables.best_measured(
         personalise_tables.own_rule(inside[inside["searcher"] != "random-order"]), "in-model",
         personalise_tables.HEADLINE_ANSWERS, personalise_tables.equal_budget(measured_answers))
+    zone = pd.read_csv(results / "accommodation" / "zone.csv").set_index("kind")
+    workforce = pd.read_csv(results / "accommodation" / "locations.csv")
     return {
         "the landscape": Rule(
             ("landscape/stats.csv", "landscape/manifest.json"),
@@ -168,6 +171,10 @@ def rules(results: Path) -> dict[str, Rule]:
             f"({best_in['ci_low']:.0%}–{best_in['ci_high']:.0%})",
             (f"for {int(outside['n_workers'].max())} workers whose twin differs from the "
              "prior's",)),
+        "a workforce's zone": Rule(
+            ("accommodation/locations.csv", "accommodation/zone.csv"),
+            f"N = {int(workforce['workers'].max()):,} workers", "95 % bootstrap intervals",
+            (workload_tables.measured_clause(zone),)),
     }
 
 

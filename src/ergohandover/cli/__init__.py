@@ -13,7 +13,7 @@ from .parser import FlagError, Parser
 
 COMMANDS = {"score": "score", "evaluate": "evaluate", "robustness": "robustness",
             "sweep": "sweep", "landscape-stats": "sweep", "baseline": "baseline",
-            "train": "train", "personalise": "personalise", "view": "view"}
+            "train": "train", "personalise": "personalise", "view": "view", "report": "report"}
 """Each sub-command and the module that defines it, imported only when that command runs (or
 for the top-level help): a command pays for what it uses, not for every other command."""
 # Errors caused by what the user gave us: one line on stderr, exit code 2, no traceback.

@@ -70,8 +70,8 @@ def dataclass_from_args(cls: type[T], args: argparse.Namespace) -> T:
 
 def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """``--percentile``, ``--stature``, ``--mass``, ``--sex``: the worker's size."""
-    from ..workload.manikins import MANIKINS
     from ..twin.anthropometry import MASS_RANGE_KG, PERCENTILES, SEXES, STATURE_RANGE_M
+    from ..workload.manikins import MANIKINS
 
     names = sorted(PERCENTILES)
     group = parser.add_argument_group(f"worker (default: --percentile {defaults.PERCENTILE})")
@@ -95,8 +95,8 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
 def body_from_args(args: argparse.Namespace):
     """The BodySpec the flags describe: the percentile, then any explicit overrides, then the
     worker's own measurements (:mod:`.measurements`)."""
-    from ..workload.manikins import MANIKINS
     from ..twin.anthropometry import BodySpec
+    from ..workload.manikins import MANIKINS
 
     if args.manikin is not None and "percentile" in given(args):
         raise InputError(f"--manikin {args.manikin} and --percentile {args.percentile} both "

@@ -152,8 +152,12 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--paths {args.paths}: no such folder")
     paths = sorted(paths_dir.glob("*.csv")) if paths_dir.is_dir() else []
     server = app.start_server(args.host, args.port)
+    # The study's accommodation zone, a layer for its worker and task only.
+    zone_file = RESULTS / "accommodation" / "cells.csv"
+    zone = pd.read_csv(zone_file) if zone_file.is_file() and \
+        evaluator.task == StudyConfig().evaluator().task else None
     viewer = app.HandoverViewer(evaluator, landscape, named_locations(landscape, evaluator),
-                                paths, server, gui=args.gui)
+                                paths, server, gui=args.gui, zone=zone)
     print(f"viewer at http://{args.host}:{args.port} (Ctrl-C to stop)", flush=True)
     try:
         deadline = time.monotonic() + (args.seconds or float("inf"))

@@ -23,7 +23,7 @@ from ..frames import worker_to_world, world_to_worker
 from ..landscape import Landscape
 from ..scene.world import WorkerPosture
 from ..twin.evaluate import Evaluator
-from .cloud import colours, expected_cloud, landscape_cloud
+from .cloud import colours, expected_cloud, landscape_cloud, share_colours, zone_cloud
 from .handover import SCORES, HandoverScene, panel_text, read_path
 
 PLAYBACK_FPS = 20
@@ -61,12 +61,15 @@ class HandoverViewer:
         named: name -> worker-frame location (3,) [m] of locations to jump to.
         paths: carry path files to play back.
         server: the viser server (:func:`start_server`).
+        zone: the study's accommodation cells (results/accommodation/cells.csv) to show as a
+            layer, or None.
         gui: also show the scene in PyBullet's own window (needs a display).
     """
 
     def __init__(self, evaluator: Evaluator, landscape: Landscape,
-                 named: dict[str, np.ndarray], paths: list[Path], server, gui: bool = False):
-        self.server, self.landscape, self.named = server, landscape, named
+                 named: dict[str, np.ndarray], paths: list[Path], server, gui: bool = False,
+                 zone: pd.DataFrame | None = None):
+        self.server, self.landscape, self.named, self.zone = server, landscape, named, zone
         server.initial_camera.position = CAMERA["eye"]
         server.initial_camera.look_at = CAMERA["target"]
         self.lock = threading.RLock()
@@ -90,6 +93,8 @@ class HandoverViewer:
             "/box_gizmo", scale=0.25, disable_rotations=True,
             position=tuple(worker_to_world(start)))
         self._cloud_gui(controls)
+        if zone is not None:
+            self._zone_gui(controls)
         self._jump_gui(controls)
         self._carry_gui(controls)
         for field in self.fields:
@@ -156,6 +161,27 @@ class HandoverViewer:
         self.server.scene.add_point_cloud(
             "/landscape", cloud.points[keep], colours(cloud.values[keep], low, high),
             point_size=self.point_size.value / 1000, point_shape="circle")
+
+    # --- the workforce's accommodation zone --------------------------------------------------
+    def _zone_gui(self, gui) -> None:
+        with gui.add_folder("workforce (accommodation zone)"):
+            self.zone_shown = gui.add_checkbox("show", False)
+            self.zone_kind = gui.add_dropdown("suited", ("error-free", "as measured"),
+                                              initial_value="error-free")
+            self.zone_share = gui.add_slider("share at least", 0.0, 1.0, 0.05, 0.9)
+        for control in (self.zone_shown, self.zone_kind, self.zone_share):
+            control.on_update(lambda _: self.draw_zone())
+
+    def draw_zone(self):
+        """The grid points whose share of the workforce suited reaches the slider, coloured by
+        that share; nothing while unticked. Returns the cloud drawn."""
+        column = "exact_share" if self.zone_kind.value == "error-free" else "measured_share"
+        shown = zone_cloud(self.zone, column, self.zone_share.value if self.zone_shown.value
+                           else np.inf)
+        self.server.scene.add_point_cloud(
+            "/zone", shown.points, share_colours(shown.values), point_size=0.012,
+            point_shape="square")
+        return shown
 
     # --- named locations -------------------------------------------------------------------
     def _jump_gui(self, gui) -> None:

@@ -51,6 +51,20 @@ def expected_cloud(cloud: Cloud, evaluator: Evaluator, sd_deg: float, seed: int 
     return Cloud(cloud.points[feasible], values[feasible], cloud.stride)
 
 
+def zone_cloud(cells, column: str, at_least: float) -> Cloud:
+    """The accommodation part's grid points (``cells``: results/accommodation/cells.csv) whose
+    share ``column`` is at least ``at_least``, in the world frame, with that share."""
+    shares = cells[column].to_numpy(float)
+    keep = shares >= at_least
+    points = worker_to_world(cells[["x", "y", "z"]].to_numpy(float)[keep]).astype(np.float32)
+    return Cloud(points, shares[keep], 1)
+
+
+def share_colours(shares: np.ndarray) -> np.ndarray:
+    """(N, 3) uint8 colours of shares 0-1 (viridis, as the study's figure)."""
+    return (255 * colormaps["viridis"](np.clip(shares, 0, 1))[:, :3]).astype(np.uint8)
+
+
 def colours(values: np.ndarray, low: float, high: float) -> np.ndarray:
     """(N, 3) uint8 colours of scores between ``low`` (green) and ``high`` (red)."""
     share = (values - low) / max(high - low, 1e-9)

@@ -1,11 +1,12 @@
 """Study part `manikins`: the standard boundary manikins at every headline location.
 
 The four manikins of workplace design (the 5th-percentile woman, the 50th woman, the 50th man,
-the 95th man; :mod:`ergohandover.workload.manikins`) each take the box at every headline location of the
-default worker (the robustness part's: the nominal and robust optima, the largest margin, the
-learned location, the practice rule, the one-size locations and each start's shortest-distance
-location). For each: feasibility, REBA, RULA, the paper's score, OWAS, the revised NIOSH
-lifting equation for the study's lifting task and the static back load (docs/workload.md).
+the 95th man; :mod:`ergohandover.workload.manikins`) each take the box at every headline
+location of the default worker (the robustness part's: the nominal and robust optima, the
+largest margin, the learned location, the practice rule, the one-size locations and each
+start's shortest-distance location). For each: feasibility, REBA, RULA, the paper's score,
+OWAS, the revised NIOSH lifting equation for the study's lifting task and the static back
+load (docs/workload.md).
 
 Writes results/manikins/:
   manikins.csv   one row per manikin and location: its body, the location, every score and
@@ -20,9 +21,9 @@ from pathlib import Path
 import pandas as pd
 
 from ...io.atomic import atomic_write_csv
-from ...workload.manikins import MANIKINS, manikin
 from ...twin.evaluate import Evaluator, evaluate
 from ...workload import Levers, workload_table
+from ...workload.manikins import MANIKINS, manikin
 from ..config import StudyConfig
 from ..engines import Engine
 from ..resume import run_part
