@@ -225,6 +225,29 @@ def test_bending_further_loads_the_back_more_and_mirrors_are_equal():
         assert mirrored[column][0] == pytest.approx(mirrored[column][1])
 
 
+def test_the_lumbar_moment_is_the_twins_own_in_the_sagittal_plane():
+    """The model reads only the Posture columns; the twin's kinematics hold every segment's
+    mass where the solved posture put it. For the twin's own postures in its mid-sagittal plane
+    — upright to bent 68°, the box low to high, near to far — the two moments about L5/S1 (the
+    lumbar joint) agree to 4 %."""
+    from ergohandover.ergonomics.posture import POSTURE_COLUMNS
+    from ergohandover.twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
+
+    evaluator = Evaluator()
+    points = np.array([[0.0, y, z] for y in (0.5, 0.7, 0.9, 1.1, 1.3) for z in (0.3, 0.45, 0.6)])
+    table = evaluate(points, evaluator, joints=True)
+    table = table[table["feasible"].astype(bool)]
+    assert len(table) >= 10 and table["trunk_flexion"].max() > 60
+    solver = posture_solver(evaluator)
+    state = solver.model.forward(joint_angles(table))
+    lumbar = solver.model.index("lumbar_flexion")
+    lever = state.subtree_levers(solver.grip_loads())[lumbar]
+    twin = GRAVITY * np.abs(np.cross(state.joint_axes[lumbar], lever, axis=0)[2])
+    posture = Posture({c: table[c].to_numpy(float) for c in POSTURE_COLUMNS})
+    model = back_load(posture, Levers.of(evaluator.body))["back_moment_nm"]
+    np.testing.assert_allclose(model, twin, rtol=0.04)
+
+
 def test_the_levers_are_the_body_models():
     body = BodySpec()
     lv = Levers.of(body)
