@@ -24,13 +24,39 @@ def test_an_elbow_height_sizes_the_worker_that_evaluate_solves(points, tmp_path)
     out = tmp_path / "low_elbow.csv"
     assert main(["evaluate", "--points", str(points), "--output", str(out),
                  "--elbow-height", "1.02"]) == 0
-    body = BodySpec.from_measurements({"stature_m": BodySpec().stature_m,
-                                       "mass_kg": BodySpec().mass_kg, "elbow_height_m": 1.02})
+    # No percentile named: stature, mass and the rest are the body model's given the elbow.
+    body = BodySpec.from_measurements({"elbow_height_m": 1.02})
+    assert body.stature_m < BodySpec().stature_m
     expected = evaluate(pd.read_csv(points).to_numpy(float), Evaluator(body))
     table = pd.read_csv(out, keep_default_na=False)
     assert table["paper_postural"].tolist() == expected["paper_postural"].tolist()
     assert table["right_elbow_flexion"].to_numpy() == pytest.approx(
         expected["right_elbow_flexion"].to_numpy(), abs=1e-6)
+
+
+def test_a_body_given_by_stature_and_sex_is_the_body_models_and_is_said(points, tmp_path):
+    """A 1.62 m woman weighs what the survey's 1.62 m women weigh, not the default 50th man's
+    84.3 kg; a named percentile keeps its own size but for what is given; each run says the
+    body it used, last, once it has finished."""
+    from cli_run import run_cli
+
+    woman = BodySpec.from_measurements({"stature_m": 1.62}, "female")
+    assert 60 < woman.mass_kg < 75 and woman.elbow_height_m < BodySpec().elbow_height_m
+    out = tmp_path / "woman.csv"
+    done = run_cli("evaluate", "--points", str(points), "--output", str(out),
+                   "--stature", "1.62", "--sex", "female")
+    assert done.returncode == 0, done.stderr
+    last = done.stderr.strip().splitlines()[-1]
+    assert last == (f"worker: female, 1.620 m, {woman.mass_kg:.1f} kg, elbow height "
+                    f"{woman.elbow_height_m:.3f} m (the body model's, given --sex, --stature)")
+    expected = evaluate(pd.read_csv(points).to_numpy(float), Evaluator(woman))
+    assert pd.read_csv(out)["trunk_flexion"].to_numpy() == pytest.approx(
+        expected["trunk_flexion"].to_numpy(), abs=1e-6)
+    done = run_cli("evaluate", "--points", str(points), "--output", str(out),
+                   "--percentile", "p5-female", "--mass", "60")
+    small = BodySpec.from_percentile("p5-female")
+    assert done.stderr.strip().splitlines()[-1].startswith(
+        f"worker: female, {small.stature_m:.3f} m, 60.0 kg")
 
 
 def test_a_survey_row_gives_the_worker_and_its_sex(points, tmp_path):

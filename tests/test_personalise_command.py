@@ -31,6 +31,7 @@ from ergohandover.search.answers import SCORE_RANGES, AnswerReader, Refused
 from ergohandover.search.oracles import Oracle
 from ergohandover.search.session import Session, run
 from ergohandover.study.config import PersonaliseConfig, PopulationConfig
+from ergohandover.twin.anthropometry import BodySpec
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "postures.csv"
@@ -404,7 +405,10 @@ def test_a_state_of_other_settings_or_no_state_at_all_is_refused(tmp_path, capsy
     assert (f"--output {out}: its session was made with seed = 0, this command has 1 "
             "(--seed): rerun that session's command") in err
     err = refused([*argv, "--sex", "male"], tmp_path, capsys)
-    assert "evaluator.body.sex = 'female', this command has 'male' (the worker's flags)" in err
+    # A man of the same stature is another body: the first field that differs is named.
+    man = BodySpec.from_measurements({"stature_m": 1.62}, "male")
+    assert (f"evaluator.body.mass_kg = 67.0, this command has {man.mass_kg:g} (the worker's "
+            "flags)") in err
     assert (out / "state.json").read_bytes() == state
     other = tmp_path / "other.json"
     other.write_text('{"format": "something else"}')

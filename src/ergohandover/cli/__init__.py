@@ -58,7 +58,10 @@ def main(argv: list[str] | None = None) -> int:
     command = args.command_parser
     try:
         with clean_stop():  # Ctrl-C and kill: workers stopped, one line, exit 130 or 143
-            return args.run(args)
+            code = args.run(args)
+        if code == 0 and getattr(args, "worker_line", None):
+            print(args.worker_line, file=sys.stderr)  # the body every number is of
+        return code
     except USER_ERRORS as exc:
         message = str(exc) if not isinstance(exc, OSError) or exc.filename is None else (
             f"{exc.filename}: {exc.strerror}")

@@ -84,30 +84,47 @@ def read_survey_row(path: Path) -> tuple[dict[str, float], str | None]:
     return found, (gender if gender in ("male", "female") else None)
 
 
-def measured_body(args: argparse.Namespace, base):
-    """The worker the flags describe: ``base`` (the percentile, with explicit stature, mass and
-    sex) and any measurements, or ``base`` itself when none is given."""
-    from ..twin.anthropometry import BodySpec
+def measured_body(args: argparse.Namespace, base, default_sex: str):
+    """The worker the flags describe.
+
+    ``base`` is the named percentile or manikin the user chose, its stature, mass and sex
+    already overridden by ``--stature``, ``--mass``, ``--sex``: what no flag or measurement
+    gives is its. Without one (``base`` None), what is not given is the body model's mean given
+    what is: a 1.62 m woman gets the mass and proportions of 1.62 m women, not a percentile's.
+    Sex: ``--sex``, else the survey row's, else ``base``'s, else ``default_sex``.
+    """
+    from ..twin.anthropometry import BodySpec, BodySpecError
+    from ..twin.proportions import ORDER
 
     given: dict[str, float] = {}
-    sex = base.sex
+    survey_sex = None
     if args.measurements is not None:
         given, survey_sex = read_survey_row(args.measurements)
-        if args.sex is None and survey_sex:
-            sex = survey_sex
     for dest, name in FLAGS.items():
         value = getattr(args, dest)
         if value is not None:
             given[name] = value
+    landmarks = dict(given)
+    for name, flag in (("stature_m", "stature"), ("mass_kg", "mass")):
+        if getattr(args, flag) is not None:
+            given[name] = getattr(args, flag)
+    sex = args.sex or survey_sex or (base.sex if base is not None else default_sex)
     if args.proportions != "ansur2":
-        if given:
+        if landmarks:
             raise InputError(f"--proportions {args.proportions} takes no measurements (its "
                              "lengths are fractions of stature)")
-        return BodySpec(base.stature_m, base.mass_kg, base.sex, proportions=args.proportions)
-    if not given:
-        return base
-    # Explicit --stature/--mass win; otherwise the survey row's; otherwise the percentile's.
-    for name, flag in (("stature_m", "stature"), ("mass_kg", "mass")):
-        if getattr(args, flag) is not None or name not in given:
-            given[name] = getattr(base, name)
+        sized = base if base is not None else BodySpec.from_measurements(given, sex)
+        return BodySpec(sized.stature_m, sized.mass_kg, sex, proportions=args.proportions)
+    if base is not None:
+        if not landmarks and sex == base.sex:
+            return base
+        for name in ("stature_m", "mass_kg"):
+            given.setdefault(name, getattr(base, name))
+    # Landmarks that cannot be one body are refused as typed, before the model fills in
+    # (and perhaps carries the contradiction into a stature no flag gave).
+    typed = {**landmarks, **{k: v for k, v in given.items() if k == "stature_m"}}
+    for lower, upper in ORDER:
+        if lower in typed and upper in typed and not typed[lower] < typed[upper]:
+            raise BodySpecError(f"{lower} = {typed[lower]:.3f} m is not below {upper} = "
+                                f"{typed[upper]:.3f} m: the measurements do not fit one body")
     return BodySpec.from_measurements(given, sex)

@@ -18,7 +18,7 @@ from typing import Any, TypeVar
 
 from ..io.csv_input import InputError
 from . import defaults
-from .measurements import add_measurement_arguments, measured_body
+from .measurements import FLAGS, add_measurement_arguments, measured_body
 from .parser import given
 from .refusals import BODY_FLAGS, model, read_landscape
 from .values import (
@@ -93,19 +93,42 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def body_from_args(args: argparse.Namespace):
-    """The BodySpec the flags describe: the percentile, then any explicit overrides, then the
-    worker's own measurements (:mod:`.measurements`)."""
+    """The BodySpec the flags describe (described in ``args.worker_line``).
+
+    A named ``--percentile`` or ``--manikin`` with any explicit overrides, then the worker's
+    own measurements; without one, a body given by stature, mass, sex or measurements is the
+    body model's for what is given (:func:`.measurements.measured_body`); with nothing given,
+    the default worker.
+    """
     from ..twin.anthropometry import BodySpec
     from ..workload.manikins import MANIKINS
 
-    if args.manikin is not None and "percentile" in given(args):
+    flags = given(args)
+    if args.manikin is not None and "percentile" in flags:
         raise InputError(f"--manikin {args.manikin} and --percentile {args.percentile} both "
                          "given: give one (a manikin is a named percentile)")
     named = MANIKINS[args.manikin] if args.manikin is not None else args.percentile
-    overrides = {field: getattr(args, flag[2:]) for field, flag in BODY_FLAGS.items()
-                 if flag[2:] in ("stature", "mass", "sex") and getattr(args, flag[2:]) is not None}
-    base = model(dataclasses.replace, BodySpec.from_percentile(named), **overrides)
-    return model(measured_body, args, base)
+    default = BodySpec.from_percentile(defaults.PERCENTILE)
+    described = {"stature", "mass", "sex", "measurements", *FLAGS} & flags
+    if args.manikin is not None or "percentile" in flags or not described:
+        overrides = {field: getattr(args, flag[2:]) for field, flag in BODY_FLAGS.items()
+                     if flag[2:] in ("stature", "mass", "sex")
+                     and getattr(args, flag[2:]) is not None}
+        base = model(dataclasses.replace, BodySpec.from_percentile(named), **overrides)
+    else:
+        base = None
+    body = model(measured_body, args, base, default.sex)
+    typed = ", ".join(f"--{f.replace('_', '-')}" for f in sorted(described))
+    if base is None:
+        source = f"the body model's, given {typed}"
+    else:
+        source = f"the {args.manikin} manikin" if args.manikin is not None else \
+            f"--percentile {named}" + ("" if "percentile" in flags else ", the default")
+        source += f", with {typed}" if typed else ""
+    # Said once the command has finished (cli.main), so that a refusal stays one line.
+    args.worker_line = (f"worker: {body.sex}, {body.stature_m:.3f} m, {body.mass_kg:.1f} kg, "
+                        f"elbow height {body.elbow_height_m:.3f} m ({source})")
+    return body
 
 
 def add_lift_arguments(parser: argparse.ArgumentParser) -> None:
