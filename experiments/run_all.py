@@ -56,6 +56,7 @@ from pathlib import Path
 
 from ergohandover.errors import ErgohandoverError
 from ergohandover.executor import clean_stop
+from ergohandover.io.atomic import OutputError, check_writable
 from ergohandover.study.parts import PARTS, part
 from ergohandover.study.resume import is_done
 from ergohandover.study.script import add_study_arguments, duration, fail, study_from_args
@@ -112,6 +113,11 @@ def main(argv: list[str] | None = None) -> int:
     # A run into a results folder of its own keeps its figures beside it, never in paper_figs/.
     figures = args.figures or (args.results / "figures" if args.results else
                                ROOT / "paper_figs" / ("quick" if args.quick else ""))
+    for flag, folder in (("--results", results), ("--figures", figures)):
+        try:  # before any part runs: a folder nothing can be written to is one line
+            check_writable(folder, folder=True)
+        except OutputError as exc:
+            fail(OutputError(f"{flag} {exc}"))
     steps = args.only or list(STEPS)
     todo = [p for p in steps if p == "figures" or args.force
             or not is_done(results / p, config.part_inputs(p))]

@@ -134,7 +134,9 @@ def test_points_mark_infeasible_locations_and_never_score_them(tmp_path, capsys)
 
 
 BAD = {
-    "negative SD": (["--postures", "ONE", "--angle-sd", "5", "-1"], "--angle-sd -1: must be >= 0"),
+    "negative SD": (["--postures", "ONE", "--angle-sd", "5", "-1"], "--angle-sd -1: outside 0-45"),
+    "SD beyond the bound": (["--postures", "ONE", "--angle-sd", "46"],
+                            "--angle-sd 46: outside 0-45"),
     "infinite SD": (["--postures", "ONE", "--angle-sd", "inf"], "--angle-sd inf: not a finite"),
     "no draws": (["--postures", "ONE", "--draws", "0"], "--draws 0: must be >= 1"),
     "both": (["--postures", "ONE", "--points", "ONE"],

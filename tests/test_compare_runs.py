@@ -138,12 +138,79 @@ def test_path_lengths_may_differ_in_their_last_digits_only(pair, capsys):
     assert run(capsys, *pair)[0] == 1
 
 
+PARTICIPANTS = "participants/participants.csv"
+
+
+def with_participants(pair, value: str) -> tuple[int, str]:
+    """Both folders with the committed participants table, B's first robot clearance ``value``
+    (a rerun's clearance differed in its 16th digit: 0.056089047391000214 vs
+    0.05608904739100045); the comparison's exit code and its lines on the table."""
+    for folder in pair:
+        (folder / PARTICIPANTS).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(RESULTS / PARTICIPANTS, folder / PARTICIPANTS)
+    edit(pair[1], PARTICIPANTS, lambda t: t.loc.__setitem__((0, "robot_clearance_m"), value))
+    return compare_runs.compare(*pair, [], None), PARTICIPANTS
+
+
+def test_a_float_differing_in_its_16th_digit_matches_and_says_so(pair, capsys):
+    assert pd.read_csv(RESULTS / PARTICIPANTS, dtype=str)["robot_clearance_m"][0] == (
+        "0.05608904739100045")  # the committed value the rerun's differed from
+    ok, name = with_participants(pair, "0.056089047391000214")
+    out = capsys.readouterr().out
+    assert ok, out
+    report = lines_of(out, name)
+    assert report.startswith(f"{name}: within tolerance")
+    assert ("robot_clearance_m (floating point, tolerated): 1 rows differ in their last digits, "
+            "max rel diff 4.2e-15 (tolerance 1e-09)") in report
+    assert "everything matches" in out
+
+
+@pytest.mark.parametrize("relative", [1e-6, -1e-6, 2e-9])
+def test_a_float_differing_beyond_the_relative_tolerance_differs(pair, capsys, relative):
+    value = 0.05608904739100045 * (1 + relative)
+    ok, name = with_participants(pair, repr(value))
+    out = capsys.readouterr().out
+    assert not ok
+    report = lines_of(out, name)
+    assert (f"column robot_clearance_m: 1 rows differ, first at line 2: '0.05608904739100045' "
+            f"vs '{value!r}' (rel diff {abs(relative):.2g}, tolerance 1e-09)") in report
+    assert "DIFFERENCES found" in out
+
+
+@pytest.mark.parametrize(("a", "b"), [
+    ("2256448245", "2256448246"),  # an integer: relative 4e-10, still a difference
+    ("1", "1.0"),  # an integer against a float: the column's type changed
+    ("0.5", ""),  # a float against an empty cell
+    ("0.5", "nan"),
+    ("inf", "1e308"),
+])
+def test_integers_text_and_empty_cells_compare_exactly(pair, capsys, a, b):
+    def set_seed(value):
+        return lambda t: t.loc.__setitem__((0, "seed"), value)
+    edit(pair[0], "learning/runs.csv", set_seed(a))
+    edit(pair[1], "learning/runs.csv", set_seed(b))
+    code, out = run(capsys, *pair)
+    assert code == 1, out
+    assert (f"column seed: 1 rows differ, first at line 2: {a!r} vs {b!r}"
+            in lines_of(out, "learning/runs.csv"))
+
+
+def test_a_column_of_its_own_keeps_its_rule_over_the_float_one(pair, capsys):
+    # path_length_m's measured rule (1e-12) is tighter than the floats' (1e-9)
+    edit(pair[1], "baselines/baselines.csv", lambda t: t.__setitem__(
+        "path_length_m", [repr(float(v) * (1 + 1e-10)) for v in t["path_length_m"]]))
+    code, out = run(capsys, *pair)
+    assert code == 1
+    assert "column path_length_m beyond its tolerance" in lines_of(out, "baselines/baselines.csv")
+
+
 def test_help_names_the_landscape_options(capsys):
     with pytest.raises(SystemExit) as exit_:
         compare_runs.main(["--help"])
     out = capsys.readouterr().out
     assert exit_.value.code == 0
     assert "--cache-a DIR" in out and "--cache-b DIR" in out and "RESULTS_A" in out
+    assert "floating-point cells (rel 1e-09" in " ".join(out.split())
 
 
 @pytest.mark.parametrize(("args", "named"), [

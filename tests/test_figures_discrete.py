@@ -1,6 +1,8 @@
 """The figures' rules for discrete scores (experiments/analysis/common.py): the plot kind of a
 panel, integer ticks on integer axes, N in every figure, one wording for shares; and every
-figure script run on the committed results, its PNGs read back."""
+figure script run on the committed results, its PNGs read back: N stated, words a reader knows
+instead of the results' keys, no two panels drawing the same data, and the figures a reader
+could misread (workers out of order, curves ending unannounced) checked against results/."""
 
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ import common  # noqa: E402
 # What each script writes from the committed results, and how many of each figure's axes hold
 # integers (scores, penalties, run counts) at least.
 SCRIPTS = {
-    "fig_learning": {"learning_min_score.png": 9, "learning_evaluations.png": 0,
+    "fig_learning": {"learning_min_score.png": 7, "learning_evaluations.png": 0,
                      "learning_success.png": 0, "learning_best_so_far.png": 8,
                      "learning_rollouts.png": 0},
     "fig_baselines": {"baselines_boxplot.png": 3, "baselines_renders.png": 0,
@@ -42,14 +44,22 @@ SCRIPTS = {
     "fig_sensitivity": {"sensitivity.png": 0},
     "fig_validation": {"validation.png": 0},
     "fig_robustness": {"robustness.png": 1},
+    "fig_personalise": {"personalise.png": 0, "personalise_measured.png": 0},
+    "fig_capture": {"capture_accuracy.png": 0},
+    "fig_people": {"people_angles.png": 0, "people_locations.png": 1},
+    "fig_accommodation": {"accommodation.png": 0},
 }
 # Texts that state a share as its column holds it (targets.csv fraction: of the grid;
 # stats.csv feasible_fraction: the feasible points' share of the grid).
-SHARES = {"learning_min_score.png": "paper: optimum 4 on 0.981 % of the grid",
-          "learning_evaluations.png": "paper: target on 0.981 % of the grid",
+SHARES = {"learning_min_score.png": "target: paper score 4\non 0.981 % of the grid",
+          "learning_evaluations.png": "target: paper score 4\non 0.981 % of the grid",
           "score_distribution.png": "N = 3,156,901 feasible points (96.8 % of the grid"}
 # A share of something "of the ..." names the grid or its feasible points, nothing else.
 OTHER_SHARE = re.compile(r"% of the (?!grid|feasible points)")
+# The results' own keys, which a reader of a figure cannot know: targets, budgets, boundaries,
+# workers and any column name (a lower-case word joined by underscores).
+INTERNAL = re.compile(r"paper-reward|lexicographic|reba_ab|paper_postural|paper-code|gaze-off"
+                      r"|paper-\dmin|\bp\d+-(?:fe)?male\b|\b[a-z]+(?:_[a-z0-9]+)+\b")
 
 
 def drawn_ticks(ax, axis: str = "y") -> list[float]:
@@ -168,6 +178,48 @@ def test_save_writes_the_texts_and_integer_ticks_into_the_png(tmp_path, monkeypa
     assert 4.0 in ticks and all(t == round(t) for t in ticks)
 
 
+def test_save_writes_each_panels_words_and_a_fingerprint_of_its_data(tmp_path, monkeypatch):
+    monkeypatch.setattr(common, "FIGURES", tmp_path)
+    fig, axes = plt.subplots(1, 3)
+    for ax, values in zip(axes, ([1, 2, 3], [1, 2, 3], [1, 2, 4]), strict=True):
+        ax.plot([0, 1, 2], values, label="a line")
+        ax.set_xlabel("stature [m]")
+        ax.legend()
+    fig.legend(["figure-wide"])
+    fig.suptitle("N = 3 panels")
+    comment = json.loads(Image.open(common.save(fig, "panels.png")).text["Comment"])
+    panels = comment["panels"]
+    assert [p["xlabel"] for p in panels] == ["stature [m]"] * 3
+    assert all(p["legend"] == ["a line"] for p in panels)
+    assert comment["legends"] == [["figure-wide"]]
+    # The same data draw the same fingerprint, other data another.
+    assert panels[0]["data"] == panels[1]["data"] != panels[2]["data"]
+
+
+def test_panel_data_is_none_for_a_panel_that_draws_nothing():
+    fig, (empty, full) = plt.subplots(1, 2)
+    empty.set_title("words only")
+    full.bar([1, 2], [3, 4])
+    assert common.panel_data(empty) is None and common.panel_data(full) is not None
+    plt.close(fig)
+
+
+@pytest.mark.parametrize(("key", "words"), [
+    ("p5-female", "5th-percentile woman"), ("p50-male", "50th-percentile man"),
+    ("p95-female", "95th-percentile woman"), ("p1-male", "1st-percentile man"),
+    ("p12-male", "12th-percentile man"), ("reference", "reference")])
+def test_worker_words(key, words):
+    assert common.worker_words(key) == words
+
+
+def test_the_reader_words_pass_the_internal_name_check_and_the_keys_fail_it():
+    for words in [*common.SCORE_WORDS.values(), common.REBA_AB_NOTE, "5th-percentile woman"]:
+        assert not INTERNAL.search(words), words
+    for key in ["paper-reward", "reba_ab", "paper_postural", "p5-female", "paper-2min",
+                "hamstring_stiffness", "boundary 'paper-code'"]:
+        assert INTERNAL.search(key), key
+
+
 # --- one wording for shares ----------------------------------------------------------------
 
 
@@ -201,14 +253,54 @@ def render(script: str, folder: Path) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=300, cwd=ANALYSIS)
 
 
-@pytest.mark.parametrize("script", [
-    pytest.param(s, marks=pytest.mark.slow) if s == "fig_learning" else s for s in SCRIPTS])
-def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, tmp_path):
-    done = render(script, tmp_path)
-    assert done.returncode == 0, done.stderr[-2000:]
-    assert {p.name for p in tmp_path.glob("*.png")} == set(SCRIPTS[script])
+@pytest.fixture(scope="module")
+def rendered(tmp_path_factory):
+    """Each script run once on the committed results for all the tests of this module: its
+    folder of PNGs."""
+    folders: dict[str, Path] = {}
+
+    def folder(script: str) -> Path:
+        if script not in folders:
+            path = tmp_path_factory.mktemp(script)
+            done = render(script, path)
+            assert done.returncode == 0, done.stderr[-2000:]
+            folders[script] = path
+        return folders[script]
+
+    return folder
+
+
+def slow_learning(scripts):
+    """The scripts as parameters, the learning figures' (the slowest) marked slow."""
+    return [pytest.param(s, marks=pytest.mark.slow) if s == "fig_learning" else s
+            for s in scripts]
+
+
+def metadata(path: Path) -> tuple[str, dict]:
+    """A written figure's texts (title, captions, panel titles) and its panels and legends."""
+    text = Image.open(path).text
+    return text["Description"], json.loads(text["Comment"])
+
+
+def every_text(path: Path) -> list[str]:
+    """Everything a reader of the figure reads: titles, captions, axis and tick labels,
+    legends and texts in the panels."""
+    description, comment = metadata(path)
+    texts = [description]
+    for panel in comment["panels"]:
+        texts += [panel["title"], panel["xlabel"], panel["ylabel"], *panel["xticks"],
+                  *panel["yticks"], *panel["legend"], *panel["texts"]]
+    for legend in comment["legends"]:
+        texts += legend
+    return texts
+
+
+@pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, rendered):
+    folder = rendered(script)
+    assert {p.name for p in folder.glob("*.png")} == set(SCRIPTS[script])
     for name, integer_axes in SCRIPTS[script].items():
-        text = Image.open(tmp_path / name).text
+        text = Image.open(folder / name).text
         assert common.N_PATTERN.search(text["Description"]), f"{name} states no N"
         assert not OTHER_SHARE.search(text["Description"]), f"{name}: a share of what?"
         assert SHARES.get(name, "") in text["Description"]
@@ -219,8 +311,144 @@ def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, t
             assert all(t == round(t) for t in locations), f"{name} {axis}: {locations}"
 
 
+@pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+def test_no_figure_names_anything_by_the_results_keys(script, rendered):
+    # "paper-reward", "lexicographic", "reba_ab", "p5-female": a reader has the figure, not
+    # targets.csv; every title, label, tick, legend and caption is in words.
+    for name in SCRIPTS[script]:
+        found = {m.group(0) for t in every_text(rendered(script) / name)
+                 for m in INTERNAL.finditer(t)}
+        assert not found, f"{name}: {sorted(found)}"
+
+
+@pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+def test_no_two_panels_of_a_figure_draw_the_same_data(script, rendered):
+    for name in SCRIPTS[script]:
+        _, comment = metadata(rendered(script) / name)
+        drawn = [p["data"] for p in comment["panels"] if p["data"]]
+        assert drawn, f"{name}: no panel draws data"
+        repeated = {d for d in drawn if drawn.count(d) > 1}
+        titles = [p["title"] for p in comment["panels"] if p["data"] in repeated]
+        assert not repeated, f"{name}: panels with the same data: {titles}"
+
+
+def test_participants_are_ordered_by_stature_smallest_first(rendered):
+    table = pd.read_csv(RESULTS / "participants" / "participants.csv")
+    statures = table.groupby("worker")["stature_m"].first().sort_values()
+    _, comment = metadata(rendered("fig_participants") / "participants.png")
+    panels = [p for p in comment["panels"] if p["xticks"]]
+    assert len(panels) == 2
+    for panel in panels:
+        shown = [float(re.search(r"(\d\.\d+) m", t)[1]) for t in panel["xticks"]]
+        assert shown == [round(s, 2) for s in statures], panel["xticks"]
+        words = [common.worker_words(w).rsplit(" ", 1) for w in statures.index]
+        for tick, (percentile, sex) in zip(panel["xticks"], words, strict=True):
+            assert sex in tick and percentile.replace("-", " ") in tick, tick
+
+
+def test_population_draws_one_panel_per_one_size_location(rendered):
+    one_size = pd.read_csv(RESULTS / "population" / "one_size.csv")
+    places = one_size[one_size["objective"] == "paper_postural"][["x", "y", "z"]]
+    for name in ("population_penalties.png", "population_proportions.png"):
+        _, comment = metadata(rendered("fig_population") / name)
+        assert len(comment["panels"]) == len(places.drop_duplicates()), name
+
+
+def test_learning_curves_that_end_early_say_where(rendered):
+    curves = pd.read_csv(RESULTS / "learning" / "curves.csv")
+    ends = curves.groupby("agent")["evaluations"].max()
+    early = ends[ends < ends.max()]
+    assert len(early)  # DQN, to the paper's 5-minute cap: the case this test is for
+    sys.path.insert(0, str(ANALYSIS))
+    from learning_tables import AGENT_NAMES
+
+    for name in ("learning_success.png", "learning_best_so_far.png"):
+        texts = every_text(rendered("fig_learning") / name)
+        caption = " ".join(texts[0].split())  # captions are wrapped: lines joined
+        assert f"Every curve runs to {int(ends.max()):,} evaluations" in caption, name
+        for agent, end in early.items():
+            assert f"{AGENT_NAMES[agent]}'s at {int(end):,}" in caption, (name, agent)
+            assert any(f"{AGENT_NAMES[agent]} ends:\nits budget, {int(end):,}" in t
+                       for t in texts), (name, agent)
+        _, comment = metadata(rendered("fig_learning") / name)
+        # One legend for the figure, naming every agent: no panel's lines go unnamed.
+        (legend,) = comment["legends"]
+        assert {AGENT_NAMES[a] for a in ends.index} <= set(legend), legend
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("script", ["fig_population", "fig_baselines"])
+def test_learning_panels_name_their_target_in_words(rendered):
+    targets = pd.read_csv(RESULTS / "learning" / "targets.csv")
+    for name in ("learning_success.png", "learning_best_so_far.png",
+                 "learning_evaluations.png"):
+        _, comment = metadata(rendered("fig_learning") / name)
+        titles = [p["title"] for p in comment["panels"] if p["title"]]
+        assert len(titles) == len(targets), name
+        assert all(t.startswith("target: ") for t in titles), titles
+        # The paper's reward (its score plus symmetry) and the tie-broken target say so.
+        assert any("nearest the midline" in t for t in titles)
+        assert any("with the best tie-breaks" in t for t in titles)
+
+
+def test_personalise_curves_that_stop_at_a_smaller_budget_say_so(rendered):
+    curves = pd.read_csv(RESULTS / "personalise" / "curves.csv")
+    ends = curves.groupby("searcher")["evaluations"].max()
+    early = ends[ends < ends.max()]
+    assert len(early)
+    sys.path.insert(0, str(ANALYSIS))
+    from fig_personalise import label
+
+    path = rendered("fig_personalise") / "personalise.png"
+    description, comment = metadata(path)
+    caption = " ".join(description.split())  # captions are wrapped: lines joined
+    notes = [t for p in comment["panels"] for t in p["texts"]]
+    for searcher, end in early.items():
+        assert f"{label(searcher)} to {int(end):,}" in caption, searcher
+        assert any(f"run to\n{int(end):,} only" in t for t in notes), (searcher, notes)
+    # Each method's panel pairs its own two curves in one colour: no panel draws two methods.
+    titles = [p["title"] for p in comment["panels"]]
+    assert len(titles) == len(set(titles))
+
+
+def test_score_distribution_explains_reba_table_a_plus_b(rendered):
+    scores = set(pd.read_csv(RESULTS / "landscape" / "distribution.csv")["score"])
+    description, comment = metadata(rendered("fig_score_distribution") /
+                                    "score_distribution.png")
+    titles = [p["title"] for p in comment["panels"]]
+    assert titles == [common.SCORE_WORDS[s] for s in
+                      dict.fromkeys(pd.read_csv(RESULTS / "landscape" /
+                                                "distribution.csv")["score"])]
+    if "reba_ab" in scores:
+        assert common.REBA_AB_NOTE in " ".join(description.split())
+
+
+def test_reachability_is_one_picture_that_states_how_much_is_held(rendered):
+    summary = pd.read_csv(RESULTS / "baselines" / "reachability_summary.csv")
+    description, comment = metadata(rendered("fig_baselines") / "robot_reachability.png")
+    titled = [p for p in comment["panels"] if p["title"]]
+    assert len(titled) == 1  # the colour bar beside it has no title
+    held, total = int(summary["held"].sum()), int(summary["locations"].sum())
+    verdict = "every location tried" if held == total else f"{held:,} of {total:,}"
+    assert verdict in titled[0]["title"] and f"N = {total:,} locations" in titled[0]["title"]
+    description = " ".join(description.split())
+    for r in summary.itertuples():
+        assert f"{int(r.held):,} of {int(r.locations):,}" in description, r.boundary
+
+
+def test_renders_state_our_score_beside_the_papers_in_words(rendered):
+    table = pd.read_csv(RESULTS / "baselines" / "baselines.csv")
+    texts = every_text(rendered("fig_baselines") / "baselines_renders.png")
+    assert not any(re.search(r"postural \d+ \(paper \d+\)", t) for t in texts)
+    for r in table.itertuples():
+        reported = ("the paper reported the same" if r.paper_postural_paper == r.paper_postural
+                    else f"the paper reported {r.paper_postural_paper:g}")
+        assert any(t.startswith(f"paper score {r.paper_postural:g} ({reported})")
+                   for t in texts), (r.method, reported)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("script", ["fig_population", "fig_baselines", "fig_participants",
+                                    "fig_personalise", "fig_score_distribution"])
 def test_a_rerun_writes_the_same_bytes(script, tmp_path):
     # population_penalties jitters; baselines_boxplot dodges: both seeded or fixed.
     for folder in ("a", "b"):

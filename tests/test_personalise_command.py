@@ -115,8 +115,9 @@ def test_the_acceptance_session_through_the_console_script(tmp_path):
                             capture_output=True, text=True, timeout=300)
     assert second.returncode == 0, second.stderr
     assert "resuming after trial 2" in second.stderr
-    assert re.search(r"^recommended: hand the box at x = [-+]\d+\.\d cm, y = \d+\.\d cm, "
-                     r"z = \d+\.\d cm \(worker frame\): paper_postural 3, observed at trial 3; "
+    assert re.search(r"^recommended: hand the box at x = [-+]\d+\.\d cm to the right, "
+                     r"y = \d+\.\d cm up, z = \d+\.\d cm forward, from the floor midway "
+                     r"between the worker's feet: paper_postural 3, observed at trial 3; "
                      r"4 of 4 trials used$", second.stdout, re.MULTILINE), second.stdout
     for name in ("trials.csv", "recommendation.csv", "manifest.json", "state.json"):
         assert (tmp_path / "run" / name).is_file()
@@ -140,8 +141,11 @@ def test_ctrl_c_or_kill_while_asking_loses_no_answer(tmp_path, signum, code):
         if run_.poll() is None:
             run_.kill()
     assert run_.returncode == code
-    assert f"2 trials saved in {out / 'state.json'}: rerun the same command to resume" in err
-    assert f"stopped by {signal.Signals(signum).name}" in err and "Traceback" not in err
+    # One line says both: the stop, and what was kept and how to resume.
+    assert err.strip().splitlines()[-1] == (
+        f"ergohandover personalise: stopped by {signal.Signals(signum).name}; 2 trials saved in "
+        f"{out / 'state.json'}: rerun the same command to resume")
+    assert "half-written" not in err and "Traceback" not in err
     assert [h["score"] for h in history(out)] == [6.0, 5.0]
     again = subprocess.run(argv, input="4\n", capture_output=True, text=True, timeout=300)
     assert again.returncode == 0, again.stderr
@@ -282,6 +286,9 @@ def test_scores_infeasible_and_fractions_are_answers():
     reader = AnswerReader("rula")
     assert reader.read(" 3\n") == (3.0, "score", "3", None)  # a score carries no posture
     assert reader.read("4.5").score == 4.5  # the mean of two raters
+    assert reader.read("4,5").score == 4.5  # as a decimal comma writes it, not a posture row
+    with pytest.raises(Refused, match="outside 1-7"):
+        reader.read("7,5")
     assert all(math.isinf(reader.read(t).score) for t in ("x", "X", "infeasible"))
 
 

@@ -11,10 +11,17 @@ The scores (the paper's postural score, REBA, RULA) are small integers and most 
 - every figure states N in its title or caption (:data:`N_PATTERN`);
 - a share of a landscape's points says what it is a share of: :func:`share_of_grid` (all the
   grid's points, infeasible ones included) or :func:`share_of_feasible`.
+
+A reader has the figure, not the code: panels, legends and ticks name scores, workers and
+targets in words (:data:`SCORE_WORDS`, :func:`worker_words`), not by the results' column
+names. :func:`save` writes what each panel shows into the PNG (:func:`panel_records`: its
+texts and a fingerprint of its data), so that a test can read from the file that its words are
+a reader's and that no two panels draw the same data.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import re
@@ -29,6 +36,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from matplotlib.collections import Collection
+from matplotlib.image import AxesImage
+from matplotlib.lines import Line2D
+from matplotlib.patches import Rectangle
 from matplotlib.ticker import MaxNLocator, NullLocator
 
 from ergohandover.io.atomic import atomic_write
@@ -166,6 +177,26 @@ def share_of_feasible(fraction: float, digits: int = 3) -> str:
     return f"{percent(fraction, digits)} of the feasible points"
 
 
+# The results' score columns, in the words a reader of the paper knows ("paper score": the
+# paper's own postural score).
+SCORE_WORDS = {"paper_postural": "paper score", "reba": "REBA",
+               "reba_ab": "REBA Table A + Table B", "rula": "RULA"}
+# What "REBA Table A + Table B" is, for a caption beside it.
+REBA_AB_NOTE = ("REBA Table A + Table B: REBA's trunk-neck-legs score (Table A) plus its "
+                "arms score (Table B), added before REBA's Table C merges them into fewer "
+                "levels")
+
+
+def worker_words(name: str) -> str:
+    """``"p5-female"`` -> ``"5th-percentile woman"``; a name of another form as it is."""
+    match = re.fullmatch(r"p(\d+)-(female|male)", name)
+    if not match:
+        return name
+    n = int(match[1])
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}-percentile {'woman' if match[2] == 'female' else 'man'}"
+
+
 def n_text(counts: Iterable[int], unit: str) -> str:
     """``"N = 10 runs per box"``, or ``"N = 8–10 ..."`` where the groups differ in size."""
     counts = [int(c) for c in counts]
@@ -208,6 +239,53 @@ def integer_ticks(fig) -> dict[str, list[float]]:
     return found
 
 
+def panel_data(ax) -> str | None:
+    """A fingerprint of the data a panel draws (lines, markers, bars, bands, images), or None
+    for a panel that draws none: two panels with the same fingerprint show the same thing."""
+    parts = []
+    for artist in ax.get_children():
+        if not artist.get_visible():
+            continue
+        if isinstance(artist, Line2D):
+            parts.append(np.asarray(artist.get_xydata(), dtype=float))
+        elif isinstance(artist, Collection):
+            parts.append(np.asarray(artist.get_offsets(), dtype=float))
+            parts += [np.asarray(path.vertices, dtype=float) for path in artist.get_paths()]
+        elif isinstance(artist, Rectangle) and artist is not ax.patch:
+            parts.append(np.array([*artist.get_xy(), artist.get_width(), artist.get_height()]))
+        elif isinstance(artist, AxesImage):
+            parts.append(np.asarray(artist.get_array(), dtype=float))
+    if not parts:
+        return None
+    digest = hashlib.sha1()
+    for part in parts:
+        digest.update(np.round(np.nan_to_num(part.ravel()), 9).tobytes())
+    return digest.hexdigest()[:16]
+
+
+def legend_texts(legend) -> list[str]:
+    return [] if legend is None else [t.get_text() for t in legend.get_texts()]
+
+
+def panel_records(fig) -> list[dict]:
+    """What a reader sees of each visible panel: its titles, axis labels, tick labels, legend
+    entries and texts drawn in it, and :func:`panel_data`."""
+    records = []
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        records.append({
+            "title": " | ".join(t for t in (ax.get_title(loc) for loc in
+                                            ("left", "center", "right")) if t),
+            "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+            "xticks": [t.get_text() for t in ax.get_xticklabels() if t.get_text()],
+            "yticks": [t.get_text() for t in ax.get_yticklabels() if t.get_text()],
+            "legend": legend_texts(ax.get_legend()),
+            "texts": [t.get_text() for t in ax.texts if t.get_text()],
+            "data": panel_data(ax)})
+    return records
+
+
 def problems(fig) -> list[str]:
     """What keeps a figure from being saved: no N in its texts; an integer axis with a
     fractional tick or none at all."""
@@ -221,16 +299,19 @@ def problems(fig) -> list[str]:
 
 def save(fig, name: str, tight: bool = True) -> Path:
     """Write a figure into the figures folder atomically and close it, after the checks of
-    :func:`problems`. The PNG carries its texts and integer ticks as metadata, so that a test
-    reads them from the file that was written."""
+    :func:`problems`. The PNG carries its texts, integer ticks and panels
+    (:func:`panel_records`) as metadata, so that a test reads them from the file that was
+    written."""
     try:
         fig.canvas.draw()  # the ticks as drawn: limits and locators settle in a draw
         found = problems(fig)
         if found:
             raise ValueError(f"{name}: " + "; ".join(found))
         metadata = {"Description": "\n".join(figure_texts(fig)),
-                    "Comment": json.dumps({"integer_ticks": integer_ticks(fig)},
-                                          sort_keys=True)}
+                    "Comment": json.dumps({
+                        "integer_ticks": integer_ticks(fig), "panels": panel_records(fig),
+                        "legends": [legend_texts(legend) for legend in fig.legends]},
+                        sort_keys=True)}
         FIGURES.mkdir(parents=True, exist_ok=True)
         path = atomic_write(FIGURES / name, lambda h: fig.savefig(
             h, format="png", dpi=130, bbox_inches="tight" if tight else None,

@@ -2,15 +2,20 @@
 ``python experiments/run_all.py --force --results /tmp/rerun``) and the landscapes they record.
 
 Compared (both folders are walked; a top-level ``quick/`` is a run of its own, left out): every
-CSV in every subfolder, cell for cell as written (a float repeats to its last digit) but for the
-machine-dependent columns and rows of :data:`TOLERANCES`, whose measured spread is printed; each
-``manifest.json``'s ``config`` and ``seeds``. A CSV or manifest in one folder only differs.
-Landscapes: the keys the results record (any ``landscape_key`` in a manifest or a CSV), paired
-by where they are recorded. Without --cache-a/--cache-b both sides read one cache, where a key
-is one file: equal keys are identical by construction (said so). A rerun from an empty cache
-has a cache of its own (ERGOHANDOVER_CACHE=DIR); given both caches, each recorded pair and every
-other key both caches hold is compared bit for bit (numpy.array_equal of the arrays' bits),
-with the number of points and where they differ; a recorded landscape missing from one differs.
+CSV in every subfolder, cell for cell: integers, text and empty cells exactly as written; two
+cells both written as floating-point numbers (a decimal point or an exponent) within a relative
+:data:`FLOAT_RELATIVE` (1e-9: the last digits of a double follow the processor and the order of
+a sum; no result is read to 9 significant digits), each column where it was needed printed
+with its largest relative difference; the machine-dependent columns and rows of
+:data:`TOLERANCES` by their own rule (which replaces the float one), their measured spread
+printed; each ``manifest.json``'s ``config`` and ``seeds``. A CSV or manifest in one folder
+only differs. Landscapes: the keys the results record (any ``landscape_key`` in a manifest or a
+CSV), paired by where they are recorded. Without --cache-a/--cache-b both sides read one cache,
+where a key is one file: equal keys are identical by construction (said so). A rerun from an
+empty cache has a cache of its own (ERGOHANDOVER_CACHE=DIR); given both caches, each recorded
+pair and every other key both caches hold is compared bit for bit (numpy.array_equal of the
+arrays' bits), with the number of points and where they differ; a recorded landscape missing
+from one differs.
 
 Not compared (each reported as byte-identical or not, never a difference): ``*.md`` (tables.md
 and baselines.md render the CSVs compared here with run times, planning seconds and wall-clock-
@@ -19,7 +24,8 @@ renderer's and image libraries' versions; the paths they draw, baselines/paths/*
 compared); the rest of a manifest (command, commit, versions, machine, engine, wall and sweep
 times, code hash, cache reuse counts, totals that include wall-clock-capped runs); a landscape
 file's metadata but its grid. Exit code: 0 when everything compared matches (within
-:data:`TOLERANCES`), 1 when anything differs, 2 on bad usage (one line naming the argument).
+:data:`FLOAT_RELATIVE` and :data:`TOLERANCES`), 1 when anything differs, 2 on bad usage (one
+line naming the argument).
 """
 
 from __future__ import annotations
@@ -61,6 +67,13 @@ TOLERANCES = (
               "empty or stopped_by time_cap): how far a run gets follows the machine's load"),
 )
 """Every exception to exact equality, with its reason."""
+FLOAT_RELATIVE = 1e-9
+"""Two cells written as floating-point numbers agree when |a - b| <= FLOAT_RELATIVE * max(|a|,
+|b|): a double's last digits follow the processor's floating point and the order of a sum (a
+rerun's robot clearance differed in the 16th digit), while no table is read to 9 digits."""
+FLOAT_CELL = r"[+-]?(?:\d+\.\d*|\.\d+|\d+(?=[eE]))(?:[eE][+-]?\d+)?"
+"""A cell written as a floating-point number: a decimal point or an exponent (an integer's
+digits alone are compared exactly)."""
 LANDSCAPE_FILE = "landscapes/{key}.npz"
 """A landscape's file inside a cache folder (the landscape cache's layout)."""
 
@@ -76,6 +89,20 @@ def wall_capped(table: pd.DataFrame) -> np.ndarray:
     empty = pd.Series("", index=table.index)
     return (table.get("budget", empty).str.startswith("wall-") | (table.get("steps", "x") == "")
             | (table.get("stopped_by", empty) == "time_cap")).to_numpy()
+
+
+def float_cells(cells: np.ndarray) -> np.ndarray:
+    """The finite value of each cell written as a floating-point number (:data:`FLOAT_CELL`);
+    NaN for an integer, text, an empty cell, inf or nan."""
+    text = pd.Series(cells, dtype=object).astype(str)
+    values = pd.to_numeric(text.where(text.str.fullmatch(FLOAT_CELL)), errors="coerce")
+    values = values.to_numpy(dtype=float)
+    return np.where(np.isfinite(values), values, np.nan)
+
+
+def relative_diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """|a - b| relative to the larger magnitude (0 where both are 0)."""
+    return np.abs(a - b) / np.maximum(np.maximum(np.abs(a), np.abs(b)), 1e-300)
 
 
 def spread(rule: Tolerance, a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:
@@ -94,7 +121,7 @@ def spread(rule: Tolerance, a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:
         return True, text
     if rule.kind == "abs":
         return bool(diff.max() <= rule.limit), f"{text} (tolerance {rule.limit:g})"
-    relative = (diff / np.maximum(np.maximum(np.abs(a), np.abs(b)), 1e-300)).max()
+    relative = relative_diff(a, b).max()
     return bool(relative <= rule.limit), f"max rel diff {relative:.2g} (tolerance {rule.limit:g})"
 
 
@@ -119,9 +146,20 @@ def compare_tables(name: str, x: pd.DataFrame, y: pd.DataFrame) -> tuple[bool, l
         rule = tolerance(name, column)
         if rule is None:
             rows = np.flatnonzero(a != b)
-            if len(rows):
-                problems.append(f"column {column}: {len(rows)} rows differ, first at line "
-                                f"{x.index[rows[0]] + 2}: {a[rows[0]]!r} vs {b[rows[0]]!r}")
+            if not len(rows):
+                continue
+            relative = relative_diff(float_cells(a[rows]), float_cells(b[rows]))
+            beyond = rows[~(relative <= FLOAT_RELATIVE)]  # NaN (not both floats): beyond
+            if len(beyond):
+                first = relative[rows == beyond[0]][0]
+                problems.append(f"column {column}: {len(beyond)} rows differ, first at line "
+                                f"{x.index[beyond[0]] + 2}: {a[beyond[0]]!r} vs "
+                                f"{b[beyond[0]]!r}" + ("" if np.isnan(first) else
+                                f" (rel diff {first:.2g}, tolerance {FLOAT_RELATIVE:g})"))
+            else:
+                notes.append(f"{column} (floating point, tolerated): {len(rows)} rows differ "
+                             f"in their last digits, max rel diff {relative.max():.2g} "
+                             f"(tolerance {FLOAT_RELATIVE:g})")
             continue
         na, nb = pd.to_numeric(a, errors="coerce"), pd.to_numeric(b, errors="coerce")
         both = ~np.isnan(na) & ~np.isnan(nb)
@@ -279,8 +317,10 @@ class Parser(argparse.ArgumentParser):
 
 def main(argv: list[str] | None = None) -> int:
     parser = Parser(prog="compare_runs.py", description=__doc__.split("\n\n")[0] + " Exit code "
-                    "0: everything matches (see TOLERANCES in this module); 1: something "
-                    "differs; 2: bad usage.", epilog="tolerated: " + "; ".join(
+                    "0: everything matches (see FLOAT_RELATIVE and TOLERANCES in this "
+                    "module); 1: something differs; 2: bad usage.", epilog="tolerated: "
+                    f"floating-point cells (rel {FLOAT_RELATIVE:g}, unless a column's own rule "
+                    "below); " + "; ".join(
                         f"{t.column or 'wall-clock-capped rows'} ({t.kind}"
                         + ("" if t.limit is None else f" {t.limit:g}") + ")" for t in TOLERANCES))
     parser.add_argument("results_a", metavar="RESULTS_A", type=Path, help="a results folder")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 from capture_tables import SCORE_NAMES, TITLES
-from common import read, save
+from common import SCORE_WORDS, read, save
 
 
 def main() -> None:
@@ -31,7 +31,7 @@ def main() -> None:
             ax.scatter(at, 100 * rows["holds"], color="black", s=10, zorder=3,
                        label="interval holds it" if k == 0 else None)
         ax.set_xticks(x, [TITLES[f] for f in formats], rotation=30, ha="right", fontsize=8)
-        ax.set_title(name, fontsize=10)
+        ax.set_title(SCORE_WORDS.get(score, name), fontsize=10)
         ax.set_ylim(0, 105)
     axes[0].set_ylabel("postures [%]")
     axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))

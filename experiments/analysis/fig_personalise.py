@@ -1,9 +1,11 @@
 """Figures of the personalisation study.
 
 personalise.png: how many handovers each searcher needs to find one worker's own optimum with
-exact answers — the share of runs that evaluated a cell at the worker's optimum (left) and
-within one point of it (right) within n evaluations, per searcher, on log-scaled evaluations;
-the study's budgets marked. Reads results/personalise/curves.csv and summary.csv.
+exact answers — the share of runs that evaluated a cell at the worker's optimum within n
+evaluations, one panel per search method (from scratch and started from the worker's prior,
+beside the prior alone and random order), and a last panel: within one point of it; the
+study's budgets marked, and where a searcher was run to a smaller budget its curve ends with
+a note. Reads results/personalise/curves.csv and summary.csv.
 
 personalise_measured.png: with answers as a site gets them — the share of runs whose
 recommendation is a true optimum after each budget, per searcher (its own recommendation
@@ -15,16 +17,66 @@ results/personalise/measured_summary.csv."""
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
-from common import read, save
+from common import caption, read, save
 
 from ergohandover.search.registry import SEARCHERS
 
-TITLES = {"optimum": "the worker's own optimum", "within_1": "within one point of it"}
+# The searchers every panel shows for reference: no search at all (random order) and the prior
+# alone, which every "+prior" searcher starts from.
+REFERENCES = {"random-order": {"color": "0.6", "lw": 1.6, "ls": "-"},
+              "prior": {"color": "black", "lw": 1.1, "ls": "-"}}
+SCRATCH, FROM_PRIOR = "-", (0, (4, 1.6))
 
 
 def warm_started(name: str) -> bool:
     """A variant that always starts from the worker's prior (the registry says which)."""
     return name in SEARCHERS and SEARCHERS[name].prior == "needs"
+
+
+def method(name: str) -> str:
+    """The search method of a searcher, with or without the prior: ``tpe`` of ``tpe+prior``."""
+    return name.removesuffix("+prior")
+
+
+def label(name: str) -> str:
+    return SEARCHERS[name].label if name in SEARCHERS else name
+
+
+def draw(ax, line, name: str, colour, linestyle, lw: float = 1.5,
+         longest: float = 0) -> tuple[int, float] | None:
+    """A searcher's curve; one that ends before ``longest`` ends in a bar, and its end is
+    returned for :func:`say_ends`."""
+    ax.step(line["evaluations"], line["success_rate"], where="post", color=colour, lw=lw,
+            linestyle=linestyle, label=label(name))
+    end = line["evaluations"].max()
+    if end >= longest:
+        return None
+    y = line.loc[line["evaluations"].idxmax(), "success_rate"]
+    ax.plot([end], [y], "|", color=colour, ms=11, mew=2)
+    return int(end), float(y)
+
+
+def say_ends(ax, ends: list[tuple[int, float]], colour, longest: float) -> None:
+    """One note per budget at which curves of a panel end (two ending together share one)."""
+    for end in sorted({e for e, _ in ends}):
+        ys = [y for e, y in ends if e == end]
+        # At the foot of the panel right of the end, where the curves that go on have risen
+        # by then; left of it where less than a decade is left to the right.
+        right = longest / end >= 6
+        ax.text(end * (1.12 if right else 1 / 1.12), 0.03,
+                f"{'both ' if len(ys) > 1 else ''}run to\n{end:,} only", fontsize=6.5,
+                color=colour, va="bottom", ha="left" if right else "right")
+
+
+def budget_axis(ax, budgets) -> None:
+    ax.set_xscale("log")
+    for budget in budgets:
+        ax.axvline(budget, color="0.85", linewidth=0.6, zorder=0)
+    # Powers of ten only: the budgets 25, 50 and 100 would run together as tick labels.
+    ax.set_xticks([v for v in (1, 10, 100, 1000, 10000) if v <= max(budgets)])
+    ax.xaxis.set_major_formatter("{x:,.0f}")
+    ax.xaxis.set_minor_locator(plt.NullLocator())
+    ax.set_ylim(0, 1.04)
 
 
 def main() -> None:
@@ -33,24 +85,90 @@ def main() -> None:
     first = summary.iloc[0]
     searchers = list(dict.fromkeys(curves["searcher"]))
     budgets = sorted(summary["budget"].unique())
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), sharey=True)
-    colours = plt.get_cmap("tab20")
-    for ax, target in zip(axes, ("optimum", "within_1"), strict=True):
-        for i, name in enumerate(searchers):
-            line = curves[(curves["searcher"] == name) & (curves["target"] == target)]
-            ax.step(line["evaluations"], line["success_rate"], where="post", color=colours(i),
-                    linestyle="--" if warm_started(name) else "-", label=name)
-        for budget in budgets:
-            ax.axvline(budget, color="grey", linewidth=0.5, alpha=0.5)
-        ax.set_xscale("log")
-        ax.set_xlabel("evaluations (real handovers)")
-        ax.set_title(TITLES[target], fontsize=10)
-        ax.set_ylim(0, 1.02)
-    axes[0].set_ylabel("share of runs that reached it")
-    axes[1].legend(fontsize=7, ncol=2, loc="lower right")
-    fig.suptitle(f"Personalising the handover: N = {int(first['n_workers'])} workers x "
-                 f"{int(first['n_runs']) // int(first['n_workers'])} runs per searcher",
-                 fontsize=11)
+    longest = curves["evaluations"].max()
+    methods = list(dict.fromkeys(method(n) for n in searchers if n not in REFERENCES))
+    colours = dict(zip(methods, plt.get_cmap("tab10").colors, strict=False))
+    cols = 4
+    rows = -(-(len(methods) + 1) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.3 * cols, 3.0 * rows), sharey=True,
+                             squeeze=False)
+    axes = list(axes.flat)
+    for ax in axes[len(methods) + 1:]:
+        ax.set_visible(False)
+
+    def curve(name: str, target: str = "optimum"):
+        return curves[(curves["searcher"] == name) & (curves["target"] == target)]
+
+    stopped = {}
+    for ax, base in zip(axes, methods, strict=False):
+        for name, style in REFERENCES.items():
+            if name in searchers:
+                draw(ax, curve(name), name, style["color"], style["ls"], style["lw"])
+        variants = [n for n in (base, f"{base}+prior") if n in searchers]
+        ends = []
+        for name in variants:
+            end = draw(ax, curve(name), name, colours[base],
+                       FROM_PRIOR if warm_started(name) else SCRATCH, longest=longest)
+            if end:
+                ends.append(end)
+                stopped[name] = end[0]
+        say_ends(ax, ends, colours[base], longest)
+        only = "" if len(variants) > 1 else (
+            "\n(run from the prior only)" if warm_started(variants[0]) else
+            "\n(run from scratch only)")
+        ax.set_title(label(base) + only, fontsize=9, color=colours[base])
+        budget_axis(ax, budgets)
+    # The last panel: within one point of the optimum. Every run started from the prior is
+    # there from its first handover, so one line stands for all of them.
+    ax = axes[len(methods)]
+    at_once = [n for n in searchers
+               if (curve(n, "within_1")["success_rate"] >= 1).all()]
+    for name in searchers:
+        if name in at_once:
+            continue
+        style = REFERENCES.get(name, {"color": colours.get(method(name)), "lw": 1.4,
+                                      "ls": SCRATCH})
+        # No notes here: near 1 they would cover the curves; the ends are the other
+        # panels' and the caption's.
+        draw(ax, curve(name, "within_1"), name, style["color"], style["ls"], style["lw"],
+             longest=longest)
+    if at_once:
+        ax.axhline(1.0, color="black", lw=1.1,
+                   label=f"the prior and the {len(at_once) - 1} searchers\nstarted from it: "
+                         "every run\nfrom the first handover")
+    ax.set_title("all searchers: within one point of the optimum", fontsize=9)
+    # Beside the panel: inside, it would cover the curves it names.
+    ax.legend(fontsize=6.5, loc="center left", bbox_to_anchor=(1.02, 0.5), frameon=False)
+    budget_axis(ax, budgets)
+    for k, ax in enumerate(axes[:len(methods) + 1]):
+        if k % cols == 0:
+            ax.set_ylabel("share of runs that found it")
+        if k >= len(methods) + 1 - cols:
+            ax.set_xlabel("handovers (log)")
+    n_runs = int(first["n_runs"]) // int(first["n_workers"])
+    fig.suptitle(f"Personalising the handover with exact answers: share of runs that found the "
+                 f"worker's own optimum (N = {int(first['n_workers'])} workers x {n_runs} runs "
+                 "per searcher)", fontsize=10.5)
+    style_handles = [
+        plt.Line2D([], [], color="0.25", ls=SCRATCH, lw=1.5,
+                   label="the panel's method from scratch"),
+        plt.Line2D([], [], color="0.25", ls=FROM_PRIOR, lw=1.5,
+                   label="the same started from the worker's prior (+ prior)"),
+        *(plt.Line2D([], [], label=label(n) + (" alone" if n == "prior" else ""), **style)
+          for n, style in REFERENCES.items() if n in searchers)]
+    fig.legend(handles=style_handles, loc="upper center", ncol=len(style_handles),
+               fontsize=8, bbox_to_anchor=(0.5, 0.955), frameon=False, handlelength=3)
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    ends = ", ".join(f"{label(n)} to {end:,}" for n, end in stopped.items())
+    caption(fig, "Each panel: one search method from scratch (solid) and started from the "
+                 "worker's prior (dashed, '+ prior'), beside the population prior alone (black) "
+                 "and random order (grey). The population prior: the optimum expected from the "
+                 "worker's stature and sex, fitted on the other workers. Vertical lines: the "
+                 f"budgets of {', '.join(f'{b:,}' for b in budgets)} handovers. Searchers whose "
+                 "proposals cost the most computing time were run to a smaller budget, where "
+                 f"their curves end: {ends}. Last panel: a cell at most one point above the "
+                 "optimum; the population prior and every searcher started from it are there "
+                 "in every run from the first handover (one line at 1).", width=165)
     save(fig, "personalise.png")
     measured_figure()
 

@@ -1,7 +1,8 @@
 """Figures of the population study, from results/population/ only:
 
 - population_penalties.png: each worker's penalty (score at the one-size location less the
-  score at their own optimum) against stature, one panel per one-size choice, postural score;
+  score at their own optimum) against stature, one panel per one-size location (choices that
+  pick the same location share a panel), paper score;
 - population_proportions.png: the same against the worker's proportions (standing elbow height
   over stature), which vary at the same stature as they do in people;
 - population_optima.png: each worker's optimum height against stature (with the fitted line,
@@ -17,6 +18,9 @@ from common import SEED, caption, integer_axis, n_text, read, save
 from population_tables import CHOICE_NAMES, short_source
 
 COLOURS = {"female": "#c44e52", "male": "#4c72b0"}
+# A marker per sex as well as a colour: where a woman's and a man's dots overlap, both shapes
+# still show.
+MARKERS = {"female": "o", "male": "^"}
 OBJECTIVE = "paper_postural"
 
 
@@ -30,35 +34,51 @@ def penalties(against: str = "stature_m", label: str = "stature [m]",
         table = table.assign(**{against: workers.loc[table["worker"]].to_numpy()})
     one_size = read("population/one_size.csv").set_index(["objective", "choice"])
     table = table[table["objective"] == OBJECTIVE]
-    choices = list(dict.fromkeys(table["choice"]))
-    fig, axes = plt.subplots(1, len(choices), figsize=(4.2 * len(choices), 3.6), sharey=True)
+    # Choices that pick the same location give every worker the same penalty: one panel.
+    panels: dict[tuple, list[str]] = {}
+    for choice, rows in table.groupby("choice", sort=False):
+        key = tuple(rows.sort_values("worker")["penalty"])
+        panels.setdefault(key, []).append(choice)
+    groups = list(panels.values())
+    fig, axes = plt.subplots(1, len(groups), figsize=(4.4 * len(groups), 3.6), sharey=True,
+                             squeeze=False)
+    axes = list(axes[0])
     # Scores are whole numbers: a small seeded vertical spread keeps equal penalties visible
     # (the same for each worker in every panel, so a worker moves only by their penalty).
     spread = np.random.default_rng(SEED).uniform(-0.12, 0.12, table["worker"].nunique())
     table = table.assign(jitter=spread[table["worker"].factorize()[0]])
-    for ax, choice in zip(axes, choices, strict=True):
-        rows = table[table["choice"] == choice]
+    for ax, group in zip(axes, groups, strict=True):
+        rows = table[table["choice"] == group[0]]
         for sex, colour in COLOURS.items():
             pick = rows[rows["sex"] == sex]
-            ax.scatter(pick[against], pick["penalty"] + pick["jitter"], s=18,
-                       color=colour, label=sex, alpha=0.8)
-        r = one_size.loc[(OBJECTIVE, choice)]
-        ax.set_title(f"{CHOICE_NAMES[choice]}\n({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) m: mean "
+            ax.scatter(pick[against], pick["penalty"] + pick["jitter"], s=20,
+                       color=colour, marker=MARKERS[sex], label=sex, alpha=0.75,
+                       edgecolor="white", linewidth=0.4)
+        r = one_size.loc[(OBJECTIVE, group[0])]
+        names = " = ".join(CHOICE_NAMES[c] for c in group)
+        same = "\n(the same location)" if len(group) > 1 else ""
+        ax.set_title(f"{names}{same}\n({r.x:.2f}, {r.y:.2f}, {r.z:.2f}) m: mean "
                      f"penalty {r.mean_penalty:.2f} ({r.mean_ci_low:.2f}–{r.mean_ci_high:.2f})",
                      fontsize=8)
         ax.set_xlabel(label)
         ax.axhline(0, color="0.6", lw=0.8)
         ax.grid(axis="y", color="0.9", lw=0.5)
     integer_axis(axes[0], "y", table["penalty"])  # shared by every panel
-    axes[0].set_ylabel("penalty: postural score above own optimum")
-    axes[0].legend(fontsize=8)
+    axes[0].set_ylabel("penalty: paper score above own optimum")
+    # One legend for the markers every panel shares, in the first panel's upper right: no
+    # worker there pays 4 points.
+    axes[0].legend(fontsize=8, loc="upper right")
     sizes = table.groupby("choice").size()
     count = n_text(sizes, "sampled workers")
     fig.suptitle(f"One handover location for everyone: who pays ({count} per panel; 95 % "
                  "bootstrap intervals)", fontsize=9, y=1.06)
-    caption(fig, "Penalties are whole score steps; each worker's dot is spread vertically by "
-                 "the same small fixed amount in every panel so that equal penalties stay "
-                 "visible.", width=140)
+    merged = [" and ".join(f"'{CHOICE_NAMES[c]}'" for c in g) for g in groups if len(g) > 1]
+    caption(fig, "Penalty: the worker's paper score at the one location less the score at "
+                 "their own optimum. Penalties are whole score steps; each worker's dot is spread "
+                 "vertically by the same small fixed amount in every panel so that equal "
+                 "penalties stay visible."
+            + "".join(f" {m} pick the same location, so they share a panel." for m in merged),
+            width=140)
     save(fig, name)
 
 

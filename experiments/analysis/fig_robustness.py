@@ -7,9 +7,25 @@ variants and the workers. Reads results/robustness/."""
 
 from __future__ import annotations
 
+import re
+
 import matplotlib.pyplot as plt
 import numpy as np
 from common import caption, integer_axis, read, save
+
+# An item's column name in words: "rula_left_table_a" -> "RULA left Table A".
+SCORE_PREFIX = {"reba": "REBA", "rula": "RULA", "paper": "paper score's"}
+CAPITALISED = re.compile(r"\b(table|score) ([a-d])\b")
+
+
+def item_words(item: str) -> str:
+    prefix, _, rest = item.partition("_")
+    words = rest.replace("_", " ")
+    words = CAPITALISED.sub(lambda m: f"{m[1].capitalize()} {m[2].upper()}", words)
+    if prefix == "rula" and words in ("left", "right"):  # a side's own score
+        words = f"{words} side's score"
+    return f"{SCORE_PREFIX.get(prefix, prefix)} {words}"
+
 
 SHOWN = {"nominal optimum": "tab:blue", "robust optimum": "tab:green",
          "largest margin": "tab:cyan", "practice": "tab:red",
@@ -72,7 +88,7 @@ def item_flips(ax, flips, sds) -> None:
     for k, sd in enumerate(sds):
         rows = nominal[nominal["angle_sd_deg"] == sd].set_index("item").loc[shown]
         ax.barh(y + k * width, rows["p_flip"], height=width, label=f"SD {sd:g} deg")
-    ax.set_yticks(y + width * (len(sds) - 1) / 2, shown, fontsize=7)
+    ax.set_yticks(y + width * (len(sds) - 1) / 2, [item_words(i) for i in shown], fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("share of measurements in which the item differs from its error-free value")
     ax.set_title(f"(c) the nominal optimum's items that change (N = {len(shown)} most "

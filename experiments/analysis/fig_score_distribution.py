@@ -7,7 +7,16 @@ the feasible points' share of the grid."""
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
-from common import caption, integer_axis, percent, read, save, share_of_grid
+from common import (
+    REBA_AB_NOTE,
+    SCORE_WORDS,
+    caption,
+    integer_axis,
+    percent,
+    read,
+    save,
+    share_of_grid,
+)
 from matplotlib.ticker import PercentFormatter
 
 
@@ -20,19 +29,29 @@ def main() -> None:
         part = dist[dist["score"] == score]
         bars = ax.bar(part["value"], part["fraction"], width=0.8, color="#3b75af")
         # Two significant digits: the smallest shares (a few thousandths of a percent) too.
-        ax.bar_label(bars, [percent(f, 2) for f in part["fraction"]], fontsize=6.5, padding=1)
+        # Upright, so that the labels of neighbouring small bars do not run into each other.
+        ax.bar_label(bars, [percent(f, 2) for f in part["fraction"]], fontsize=7, padding=2,
+                     rotation=90)
+        # A value between the lowest and highest that no point takes has no bar: say so.
+        values = set(part["value"])
+        for empty in range(int(min(values)) + 1, int(max(values))):
+            if empty not in values:
+                ax.text(empty, 0, "none", rotation=90, ha="center", va="bottom", fontsize=7,
+                        color="0.4")
         integer_axis(ax, "x", part["value"])
-        ax.set_ylim(0, part["fraction"].max() * 1.15)
+        ax.set_ylim(0, part["fraction"].max() * 1.3)  # room for the upright labels
         ax.yaxis.set_major_formatter(PercentFormatter(1.0, decimals=0, symbol=" %"))
-        ax.set_title(score)
-        ax.set_xlabel("score")
+        ax.set_title(SCORE_WORDS.get(score, score))
+        ax.set_xlabel("score value")
         ax.set_ylabel("share of the feasible points")
     fig.suptitle(f"Scores over the landscape: N = {int(row['feasible']):,} feasible points "
                  f"({share_of_grid(row['feasible_fraction'], 3)}'s {int(row['points']):,} "
-                 "points); default worker and box", fontsize=10)
+                 "points); the default worker (the 50th-percentile man) and box", fontsize=10)
     fig.tight_layout()
-    caption(fig, "Each bar: the share of the feasible points at that score value (labelled). "
-                 "A share of the grid counts all its points, infeasible ones included.")
+    caption(fig, "Each bar: the share of the feasible points at that score value (labelled; "
+                 "'none': no point takes that value). Paper score: the paper's own postural "
+                 f"score. {REBA_AB_NOTE}. A share of the grid counts all its points, infeasible "
+                 "ones included.")
     save(fig, "score_distribution.png")
 
 

@@ -10,6 +10,17 @@ import numpy as np
 from common import read, save
 
 COLOURS = {"lower than": "tab:green", "the same as": "tab:grey", "higher than": "tab:red"}
+# The grids' boundaries in words: a reader has the figure, not the study's keys.
+BOUNDARY_WORDS = {"'paper-code'": "the published code's region", "'body'":
+                  "the region derived from the body"}
+
+
+def in_words(text: str) -> str:
+    """A grid's description or a variant's label without the study's keys."""
+    text = text.replace("in boundary ", "over ")
+    for key, words in BOUNDARY_WORDS.items():
+        text = text.replace(key, words)
+    return text.replace("_", " ")
 
 
 def main() -> None:
@@ -23,7 +34,8 @@ def main() -> None:
     ax.barh(y, rows["shift_cm"], color=colours)
     # A dot at each bar's end: a shift of 0 cm (most variants) is otherwise no bar at all.
     ax.scatter(rows["shift_cm"], y, color=colours, s=12, zorder=3)
-    labels = [f"{g}: {v}" for g, v in zip(rows["group"], rows["variant"], strict=True)]
+    labels = [in_words(f"{g}: {v}") for g, v in zip(rows["group"], rows["variant"],
+                                                     strict=True)]
     ax.set_yticks(y, labels, fontsize=8)
     for k, (shift, holds, low) in enumerate(zip(rows["shift_cm"], rows["conclusion_holds"],
                                                 rows["paper_postural_min"], strict=True)):
@@ -35,7 +47,7 @@ def main() -> None:
                         f"{default['paper_postural_min']}" for k in COLOURS],
               fontsize=7, loc="lower right")
     ax.set_title(f"Sensitivity of the optimum to the model (N = {len(rows)} variants)\n"
-                 f"{default['grid']}", fontsize=10)
+                 f"{in_words(default['grid'])}", fontsize=10)
     ax.set_xlim(-0.4, max(rows["shift_cm"].max(), 1.0) * 1.35)  # room for the dots at 0
     save(fig, "sensitivity.png")
 

@@ -1,7 +1,13 @@
-"""The README's picture of the viewer: ``ergohandover view``'s page in headless Chromium, with
-the box at the study's optimum and the 1 cm landscape of the default worker in view.
+"""The README's picture of the viewer: what ``ergohandover view`` opens on a fresh clone (an
+empty landscape cache), in headless Chromium.
+
+The command itself serves the page, with its own defaults (the landscape it shows, the box at
+the optimum, the cloud's filter, the camera), so the picture is what a user sees; Chromium's
+notice that WebGL runs in software (true here, not on a user's machine) is hidden before the
+screenshot.
 
 Usage: python experiments/tools/viewer_screenshot.py [--output docs/img/viewer.png]
+       [--use-cache]
 
 Needs the viewer extra and Debian's ``chromium`` (software WebGL: ``--use-angle=swiftshader``).
 """
@@ -9,46 +15,131 @@ Needs the viewer extra and Debian's ``chromium`` (software WebGL: ``--use-angle=
 from __future__ import annotations
 
 import argparse
+import base64
+import json
+import os
 import shutil
 import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
 from pathlib import Path
 
-import pandas as pd
+from websockets.sync.client import connect
 
-from ergohandover.landscape.store import landscape_of
-from ergohandover.study.config import StudyConfig
-from ergohandover.study.parts.shared import grid_of
-from ergohandover.viewer.app import HandoverViewer, free_port, start_server
+from ergohandover.viewer.app import free_port
 
 ROOT = Path(__file__).resolve().parents[2]
+SIZE = (1280, 800)
+READY = "robot: holds the box here"  # the panel of the box at the optimum
+HIDE_NOTICES = ("document.querySelectorAll('.mantine-Notifications-root')"
+                ".forEach(n => n.style.display = 'none')")
+
+
+class DevTools:
+    """Headless Chromium driven through its DevTools protocol: the page is shot once it has
+    drawn the scene (a fixed virtual-time budget may end first on a busy machine)."""
+
+    def __init__(self, chromium: str):
+        port = free_port()
+        self.process = subprocess.Popen(
+            [chromium, "--headless", "--no-sandbox", "--use-gl=angle",
+             "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+             f"--remote-debugging-port={port}", "--remote-allow-origins=*",
+             f"--window-size={SIZE[0]},{SIZE[1]}", "about:blank"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        pages, deadline = [], time.monotonic() + 60
+        while not pages and time.monotonic() < deadline:
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list") as answer:
+                    pages = [t for t in json.load(answer) if t["type"] == "page"]
+            except OSError:
+                time.sleep(0.2)
+        if not pages:
+            raise SystemExit("headless Chromium did not start")
+        self.socket = connect(pages[0]["webSocketDebuggerUrl"], max_size=None)
+        self.calls = 0
+        self.call("Emulation.setDeviceMetricsOverride", width=SIZE[0], height=SIZE[1],
+                  deviceScaleFactor=1, mobile=False)
+
+    def call(self, method: str, **params) -> dict:
+        self.calls += 1
+        self.socket.send(json.dumps({"id": self.calls, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.socket.recv())
+            if message.get("id") == self.calls:
+                return message.get("result", {})
+
+    def evaluate(self, expression: str):
+        found = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
+        return found.get("result", {}).get("value")
+
+    def png(self) -> bytes:
+        return base64.b64decode(self.call("Page.captureScreenshot", format="png")["data"])
+
+    def shoot(self, url: str, timeout_s: float = 180.0) -> bytes:
+        """The page at ``url`` once its panel shows :data:`READY` and two screenshots a few
+        seconds apart agree (the scene's meshes have faded in)."""
+        self.call("Page.navigate", url=url)
+        deadline = time.monotonic() + timeout_s
+        while READY not in (self.evaluate("document.body.innerHTML") or ""):
+            if time.monotonic() > deadline:
+                raise SystemExit(f"the viewer's page did not show {READY!r}")
+            time.sleep(0.5)
+        self.evaluate(HIDE_NOTICES)
+        last, shot = b"", self.png()
+        while shot != last and time.monotonic() < deadline:
+            time.sleep(3.0)
+            self.evaluate(HIDE_NOTICES)
+            last, shot = shot, self.png()
+        return shot
+
+    def close(self) -> None:
+        self.socket.close()
+        self.process.kill()
+        self.process.wait()
+
+
+def serve(port: int, cache: Path | None) -> subprocess.Popen:
+    """``ergohandover view`` on ``port`` (the landscape cache ``cache``, else the user's), once
+    it says where it serves."""
+    env = dict(os.environ)
+    if cache is not None:
+        env["ERGOHANDOVER_CACHE"] = str(cache)
+    script = Path(sys.executable).with_name("ergohandover")  # the command as a user types it
+    ergohandover = [str(script)] if script.is_file() else [sys.executable, "-m",
+                                                            "ergohandover.cli"]
+    began = time.monotonic()
+    command = subprocess.Popen([*ergohandover, "view", "--port", str(port), "--seconds", "900"],
+                               stdout=subprocess.PIPE, text=True, env=env)
+    for line in command.stdout:
+        if line.startswith("viewer at"):
+            print(f"{line.strip()} after {time.monotonic() - began:.1f} s", file=sys.stderr)
+            return command
+    raise SystemExit(f"ergohandover view stopped (exit code {command.wait()})")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "img" / "viewer.png")
+    parser.add_argument("--use-cache", action="store_true",
+                        help="the landscape cache as it is (default: an empty one, as on a "
+                        "fresh clone)")
     args = parser.parse_args()
     chromium = shutil.which("chromium")
     if chromium is None:
         raise SystemExit("chromium is not installed (apt-get install chromium)")
-    config = StudyConfig()
-    evaluator = config.evaluator()
-    landscape = landscape_of(evaluator, grid_of(evaluator, config.landscape.boundary, 0.01))
-    stats = pd.read_csv(ROOT / "results" / "landscape" / "stats.csv")
-    best = stats[stats["score"] == "paper_postural"].iloc[0]
-    optimum = best[["best_x", "best_y", "best_z"]].to_numpy(float)
     port = free_port()
-    paths = sorted((ROOT / "results" / "baselines" / "paths").glob("*.csv"))
-    viewer = HandoverViewer(evaluator, landscape, {"optimum": optimum}, paths,
-                            start_server("127.0.0.1", port))
-    try:
-        viewer.ceiling.value = 6  # the cells scoring 4-6: where the good locations lie
-        subprocess.run([chromium, "--headless", "--no-sandbox", "--use-gl=angle",
-                        "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                        "--virtual-time-budget=90000", "--window-size=1280,800",
-                        f"--screenshot={args.output}", f"http://127.0.0.1:{port}"],
-                       check=True, capture_output=True, timeout=180)
-    finally:
-        viewer.close()
+    with tempfile.TemporaryDirectory() as empty:
+        command = serve(port, None if args.use_cache else Path(empty))
+        browser = DevTools(chromium)
+        try:
+            args.output.write_bytes(browser.shoot(f"http://127.0.0.1:{port}"))
+        finally:
+            browser.close()
+            command.terminate()
+            command.wait()
     print(f"wrote {args.output}")
 
 

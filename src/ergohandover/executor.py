@@ -112,13 +112,14 @@ def keep_signal_handlers() -> Iterator[None]:
 
 
 @contextmanager
-def clean_stop(resumes: bool = False) -> Iterator[None]:
+def clean_stop(resumes: bool = False, name: str | None = None) -> Iterator[None]:
     """Run a command's body with :func:`stop_on_signals`; on SIGINT or SIGTERM print one line
     and exit with the shell's code for the signal (130 or 143), after every ``with`` block
     inside has cleaned up (the handlers in place before are restored after).
 
     Args:
         resumes: say that a rerun resumes where this one stopped (the study's scripts).
+        name: how the line names the program (default: the script's name).
     """
     _RECEIVED.clear()
     try:
@@ -127,10 +128,12 @@ def clean_stop(resumes: bool = False) -> Iterator[None]:
             yield
     except KeyboardInterrupt as exc:
         number = _RECEIVED[-1] if _RECEIVED else getattr(exc, "signal_number", signal.SIGINT)
-        then = "; finished parts are kept and a rerun resumes" if resumes else \
-            "; nothing half-written was kept"
-        print(f"{Path(sys.argv[0]).stem}: stopped by {signal.Signals(number).name}{then}",
-              file=sys.stderr)
+        # A command that said what it kept (a session's saved trials) says it in this line.
+        then = getattr(exc, "kept", None) or (
+            "; finished parts are kept and a rerun resumes" if resumes else
+            "; nothing half-written was kept")
+        print(f"{name or Path(sys.argv[0]).stem}: stopped by {signal.Signals(number).name}"
+              f"{then}", file=sys.stderr)
         sys.exit(EXIT_CODES[number])
 
 

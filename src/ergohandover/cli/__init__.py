@@ -57,7 +57,8 @@ def main(argv: list[str] | None = None) -> int:
         return fail(exc.prog, str(exc))
     command = args.command_parser
     try:
-        with clean_stop():  # Ctrl-C and kill: workers stopped, one line, exit 130 or 143
+        # Ctrl-C and kill: workers stopped, one line, exit 130 or 143.
+        with clean_stop(name=command.prog):
             code = args.run(args)
         if code == 0 and getattr(args, "worker_line", None):
             print(args.worker_line, file=sys.stderr)  # the body every number is of

@@ -45,8 +45,30 @@ def add_measurement_arguments(group) -> None:
                        "fraction of stature")
 
 
-def survey_measurements(row: dict) -> dict[str, float]:
-    """The body model's measurements [m, kg] from survey columns and units."""
+UNITS = (("metres", 1000.0), ("centimetres", 10.0), ("whole kilograms", 10.0))
+"""Units a survey value may have been typed in, and the factor to the survey's own."""
+
+
+def wrong_unit(name: str, column: str, number: float) -> str | None:
+    """The unit ``number`` was evidently typed in when it is implausible in the survey's
+    (millimetres; tenths of a kilogram for weight) but plausible in that unit, else None."""
+    from ..twin.anthropometry import MASS_RANGE_KG, PLAUSIBLE_SDS, STATURE_RANGE_M
+    from ..twin.body_model import SURVEY_SCALE, body_model
+
+    fields = {"stature_m": STATURE_RANGE_M, "mass_kg": MASS_RANGE_KG}
+    ranges = [fields[name]] if name in fields else [
+        model.value_range(name, PLAUSIBLE_SDS) for model in body_model().values()]
+    lo, hi = min(r[0] for r in ranges), max(r[1] for r in ranges)
+    scale = SURVEY_SCALE[column]
+    if lo <= number / scale <= hi:
+        return None
+    units = UNITS[2:] if column == "weightkg" else UNITS[:2]
+    return next((unit for unit, factor in units if lo <= number * factor / scale <= hi), None)
+
+
+def survey_measurements(row: dict, what: str = "the survey row") -> dict[str, float]:
+    """The body model's measurements [m, kg] from survey columns and units; a value in
+    another unit (metres, centimetres, whole kilograms) is refused naming its column."""
     from ..twin.body_model import MEASUREMENTS, SURVEY_SCALE
 
     out = {}
@@ -56,17 +78,44 @@ def survey_measurements(row: dict) -> dict[str, float]:
             try:
                 number = float(value)
             except (TypeError, ValueError):
-                raise InputError(f"{column} = {value!r} is not a number (survey units: mm, "
-                                 "weightkg in 0.1 kg)") from None
+                raise InputError(f"{what}: {column} = {value!r} is not a number (survey "
+                                 "units: mm, weightkg in 0.1 kg)") from None
+            typed_in = wrong_unit(name, column, number)
+            if typed_in is not None:
+                unit = "tenths of a kilogram (85 kg is 850)" if column == "weightkg" else \
+                    "millimetres (1.72 m is 1720)"
+                raise InputError(f"{what}: {column} = {value!r} looks like {typed_in}; the "
+                                 f"survey's columns are {unit}")
             out[name] = number / SURVEY_SCALE[column]
     return out
 
 
+def check_columns(columns, what: str) -> None:
+    """Refuse a column the survey's files do not have (a misspelling would drop the value
+    silently), naming the closest survey column; the survey's other columns are ignored."""
+    import difflib
+
+    from .survey_columns import SURVEY_COLUMNS
+
+    known = {c.lower(): c for c in SURVEY_COLUMNS}
+    for column in columns:
+        name = str(column).strip()
+        if name.lower() in known:
+            continue
+        close = difflib.get_close_matches(name.lower(), list(known), n=1, cutoff=0.0)
+        raise InputError(f"{what}: column '{name}' is not an ANSUR II survey column; the "
+                         f"closest is '{known[close[0]]}'")
+
+
 def read_survey_row(path: Path) -> tuple[dict[str, float], str | None]:
     """The measurements of a one-row survey CSV, and its sex if it has a ``Gender`` column."""
+    from ..io.csv_input import check_header
     from ..twin.body_model import MEASUREMENTS
 
+    what = f"--measurements {path}"
     try:
+        header = path.read_bytes().decode("latin-1").partition("\n")[0]
+        check_header(header, what)
         table = pd.read_csv(path, encoding="latin-1")
     except FileNotFoundError:
         raise InputError(f"--measurements {path}: no such file") from None
@@ -75,8 +124,9 @@ def read_survey_row(path: Path) -> tuple[dict[str, float], str | None]:
         raise InputError(f"--measurements {path}: not a CSV file ({reason})") from None
     if len(table) != 1:
         raise InputError(f"--measurements {path}: {len(table)} rows; expected one person's")
+    check_columns(table.columns, what)
     row = table.iloc[0].to_dict()
-    found = survey_measurements(row)
+    found = survey_measurements(row, what)
     if not found:
         raise InputError(f"--measurements {path}: no survey column found (expected some of "
                          f"{', '.join(sorted(MEASUREMENTS.values()))})")

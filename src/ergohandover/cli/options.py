@@ -12,6 +12,7 @@ import argparse
 import dataclasses
 import os
 import re
+import sys
 import time
 from pathlib import Path
 from typing import Any, TypeVar
@@ -129,6 +130,30 @@ def body_from_args(args: argparse.Namespace):
     args.worker_line = (f"worker: {body.sex}, {body.stature_m:.3f} m, {body.mass_kg:.1f} kg, "
                         f"elbow height {body.elbow_height_m:.3f} m ({source})")
     return body
+
+
+def add_yes_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--yes``: run work beyond the command's bound (``what``) without asking."""
+    parser.add_argument("--yes", action="store_true",
+                        help=f"run even when the work is larger than {what} (its estimated "
+                        "time and memory are printed first)")
+
+
+def check_work(args: argparse.Namespace, flag: str, amount: int, bound: int, unit: str,
+               seconds_each: float, memory_bytes: float, too_big: bool = False) -> None:
+    """Refuse work beyond ``bound`` (``amount`` of ``unit``), or ``too_big`` for memory,
+    unless ``--yes``: one line with the estimate, from a rate just measured on this machine
+    (``seconds_each``, per unit and core) and the memory it needs at once."""
+    if amount <= bound and not too_big:
+        return
+    hours = amount * seconds_each / max(1, getattr(args, "workers", 1) or 1) / 3600
+    estimate = (f"about {hours:,.1f} h" if hours >= 1 else f"about {hours * 60:,.0f} min") + \
+        f" and {memory_bytes / 1e9:,.1f} GB of memory on this machine"
+    if not args.yes:
+        beyond = f"more than {bound:,}" if amount > bound else "too much memory at once"
+        raise InputError(f"{flag}: {amount:,} {unit}, {beyond} ({estimate}); give --yes to "
+                         "run it")
+    print(f"{amount:,} {unit}: {estimate}", file=sys.stderr)
 
 
 def add_lift_arguments(parser: argparse.ArgumentParser) -> None:

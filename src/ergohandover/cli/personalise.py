@@ -330,9 +330,9 @@ def run(args: argparse.Namespace) -> int:
               f"answer; {saved(session, resume)}", file=sys.stderr)
         tidy(output, session, new_folder)
         return PAUSED
-    except KeyboardInterrupt:
-        print(f"personalise: {saved(session, resume)}", file=sys.stderr)
+    except KeyboardInterrupt as exc:
         tidy(output, session, new_folder)
+        exc.kept = f"; {saved(session, resume)}"  # the stop's one line says it
         raise
     oracle.finish()
     if getattr(searcher, "chosen", None) is not None:

@@ -13,6 +13,7 @@ import pandas as pd
 
 from ..io.atomic import atomic_write, atomic_write_csv
 from ..io.csv_input import InputError
+from ..study.script import ROOT
 from .options import (
     add_evaluator_arguments,
     add_lift_arguments,
@@ -22,6 +23,8 @@ from .options import (
 )
 from .values import BadValue, output_folder
 
+RESULTS = ROOT / "results"
+"""The study's results in the checkout, wherever the command runs from."""
 DESCRIPTION = """\
 Write a one-page report per handover location — what a practitioner files: the twin holding
 the box there (its picture), REBA, RULA, OWAS and the paper's score with their items, the revised
@@ -53,9 +56,9 @@ def add_parser(subparsers) -> None:
     where.add_argument("--headline", action="store_true",
                        help="every headline location of the study (results/robustness/"
                        "locations.csv)")
-    parser.add_argument("--results", type=Path, default=Path("results"), metavar="DIR",
+    parser.add_argument("--results", type=Path, default=RESULTS, metavar="DIR",
                         help="the study's results, for --headline and the workforce's share "
-                        "(default: results)")
+                        "(default: results/ of the checkout, from any working directory)")
     parser.add_argument("--output", type=output_folder, metavar="DIR",
                         help="folder to write into (default: runs/report/<timestamp>/)")
     parser.add_argument("--pdf", action="store_true",

@@ -6,22 +6,32 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+import time
 
 import numpy as np
 import pandas as pd
 
-from ..io.atomic import atomic_write_csv
+from ..io.atomic import atomic_write_all
 from ..io.csv_input import InputError, numeric_columns, read_csv_text, require_columns
 from ..io.posture_csv import read_postures
 from ..robustness.margins import margin_table
 from ..robustness.measured_error import MEASURED_ERROR
-from ..robustness.posture_error import ANGLE_COLUMNS, SCORES, STRUCTURES, ErrorModel, monte_carlo
+from ..robustness.posture_error import (
+    ANGLE_COLUMNS,
+    CHUNK_POSTURES,
+    SCORES,
+    STRUCTURES,
+    ErrorModel,
+    monte_carlo,
+)
 from ..robustness.search import postures_at
 from . import defaults
 from .evaluate import LOCATION, POINTS_HELP
 from .options import (
     add_evaluator_arguments,
     add_workers_argument,
+    add_yes_argument,
+    check_work,
     evaluator_from_args,
     model_flags_given,
     writable,
@@ -66,7 +76,7 @@ def add_parser(subparsers) -> None:
                         help=POINTS_HELP)
     parser.add_argument("--postures", type=input_file, metavar="CSV",
                         help="a Posture CSV to read instead of --points; - for stdin")
-    parser.add_argument("--angle-sd", type=number(0, None, "deg"), nargs="+",
+    parser.add_argument("--angle-sd", type=number(0, MAX_ANGLE_SD_DEG, "deg"), nargs="+",
                         default=None, metavar="DEG",
                         help="the angle error's standard deviation [deg], >= 0; one or more "
                         f"values (default: {defaults.ANGLE_SD:g})")
@@ -93,6 +103,7 @@ def add_parser(subparsers) -> None:
                         "columns location, angle, value, score, margin_deg")
     add_evaluator_arguments(parser)
     add_workers_argument(parser, "processes evaluating the twin at --points")
+    add_yes_argument(parser, f"{MAX_MEASURED:,} measured postures")
     parser.set_defaults(run=run)
 
 
@@ -116,6 +127,38 @@ def points_from(frame: pd.DataFrame, what: str) -> np.ndarray:
     return points
 
 
+MAX_ANGLE_SD_DEG = 45.0
+"""The largest error SD taken: beyond it a measured angle says next to nothing of the true one
+(video and IMU errors reported for posture assessment are a few to about 20 degrees)."""
+MAX_MEASURED = 500_000_000
+"""Measured postures (draws x postures x error models) a run scores without --yes (the
+study's robustness part scores 4,000 a location)."""
+MAX_MEMORY_BYTES = 4e9
+"""Memory a run may take at once without --yes."""
+ROW_BYTES = 50 * 8 + 64
+"""A measured posture while it is scored: its ~50 float64 columns and the scores' arrays."""
+
+
+def check_draws(args: argparse.Namespace, postures: int) -> None:
+    """Refuse a run beyond :data:`MAX_MEASURED` measured postures, or one whose chunk of
+    measured postures (at least one posture's draws) would not fit :data:`MAX_MEMORY_BYTES`,
+    unless --yes, timing the Monte Carlo on a few postures first."""
+    amount = args.draws * postures * len(error_models(args))
+    # One chunk is scored at once; the three scores of every measured posture are kept.
+    memory = max(args.draws, CHUNK_POSTURES) * ROW_BYTES + amount * 3
+    if amount <= MAX_MEASURED and memory <= MAX_MEMORY_BYTES:
+        return
+    from ..ergonomics import Posture
+    from ..robustness.posture_error import ErrorModel
+
+    sample = Posture.random(64, np.random.default_rng(0))
+    start = time.perf_counter()
+    monte_carlo(sample, ErrorModel(5.0), 2000, np.random.default_rng(0))
+    seconds_each = (time.perf_counter() - start) / (64 * 2000)
+    check_work(args, f"--draws {args.draws}", amount, MAX_MEASURED, "measured postures",
+               seconds_each * max(1, args.workers), memory, memory > MAX_MEMORY_BYTES)
+
+
 def read_input(args: argparse.Namespace):
     """(locations: location[, x, y, z, feasible], the feasible ones' postures, feasible mask)."""
     if (args.points is None) == (args.postures is None):
@@ -129,10 +172,12 @@ def read_input(args: argparse.Namespace):
             raise InputError(f"{model_flags_given(args)[0]} cannot be used with --postures "
                              "(the worker and task flags describe the twin at --points)")
         frame, posture = read_postures(source, what)
+        check_draws(args, posture.n)
         return pd.DataFrame({"location": names_of(frame)}), posture, np.ones(posture.n, bool)
     evaluator = evaluator_from_args(args)
     frame = read_csv_text(source, what)
     points = points_from(frame, what)
+    check_draws(args, len(points))  # before the twin solves a point
     posture, feasible = postures_at(points, evaluator, args.workers)
     locations = pd.DataFrame({"location": names_of(frame),
                               **dict(zip("xyz", points.T, strict=True)),
@@ -192,9 +237,9 @@ def run(args: argparse.Namespace) -> int:
         outputs[args.margins] = (margin_table(posture, names[rows]) if rows.size else
                                  pd.DataFrame(columns=["location", "angle", "value", "score",
                                                        "margin_deg"]))
-    for path, frame in outputs.items():  # everything computed: now written, each atomically
-        if path not in (None, "-"):
-            atomic_write_csv(frame, writable(path))
+    # Everything computed: now written, all or none.
+    atomic_write_all({writable(path): (lambda h, f=frame: f.to_csv(h, index=False))
+                      for path, frame in outputs.items() if path not in (None, "-")})
     if args.output in (None, "-"):
         table.to_csv(sys.stdout, index=False)
         return 0

@@ -17,12 +17,17 @@ from .options import (
     add_grid_arguments,
     add_output_folder_argument,
     add_workers_argument,
+    add_yes_argument,
+    check_work,
     evaluator_from_args,
     grid_from_args,
     run_folder,
 )
 from .refusals import read_landscape
 from .values import existing_file, field_value
+
+MAX_POINTS = 20_000_000
+"""Points a sweep runs without --yes (the paper's 3 mm grid has 3.26 M)."""
 
 
 def add_parser(subparsers) -> None:
@@ -41,12 +46,14 @@ def add_parser(subparsers) -> None:
                         metavar="|".join(warm_start.metadata["choices"]),
                         help="where each location's solve starts: the coarse lattice (the "
                         "study's solve; the default) or today's solves every 6 mm, "
-                        "interpolated (about 2.4x as fast on the paper grid, scores as the "
-                        "default's at about 98 %% of points; a landscape of its own)")
+                        "interpolated (faster, and the default's scores at nearly every "
+                        "point: python experiments/bench_sweep.py --compare measures both on "
+                        "this machine; a landscape of its own)")
     add_output_folder_argument(parser, "folder for the statistics, figure and manifest.json "
                                "(created if needed; default: a new runs/sweep/<timestamp>/); "
                                "the landscape itself goes to the cache")
     add_workers_argument(parser, "processes")
+    add_yes_argument(parser, f"{MAX_POINTS:,} points")
     parser.set_defaults(run=run_sweep)
 
     stats = subparsers.add_parser(
@@ -62,6 +69,21 @@ def add_parser(subparsers) -> None:
     stats.set_defaults(run=run_stats)
 
 
+def sweep_cost(evaluator, grid) -> tuple[float, float]:
+    """Seconds per point on one core, measured on 2,048 of the grid's points after the
+    solver's set-up, and bytes per point the landscape holds."""
+    from ..landscape.sweep import ANGLES, SCORES
+    from ..twin.evaluate import evaluate_arrays
+
+    points = grid.points(0, 2048)
+    evaluate_arrays(points[:64], evaluator)  # the solver's set-up, not a point's cost
+    start = time.perf_counter()
+    evaluate_arrays(points, evaluator)
+    # A landscape keeps flags and scores as one byte, angles as four; held twice while saved.
+    per_point = 2 * (1 + len(SCORES) + 4 * len(ANGLES))
+    return (time.perf_counter() - start) / len(points), per_point
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     evaluator = evaluator_from_args(args)
     if args.warm_start == "fine" and evaluator.solver != "whole-body":
@@ -71,6 +93,10 @@ def run_sweep(args: argparse.Namespace) -> int:
         evaluator = dataclasses.replace(evaluator, settings=dataclasses.replace(
             evaluator.settings, warm_start=args.warm_start))
     grid = grid_from_args(evaluator, args.boundary, args.step)
+    if grid.size > MAX_POINTS:
+        seconds_each, bytes_each = sweep_cost(evaluator, grid)
+        check_work(args, f"--step {args.step:g}", grid.size, MAX_POINTS, "points",
+                   seconds_each, grid.size * bytes_each)
     print(grid.describe(), file=sys.stderr)
     start = time.perf_counter()
     # The door that also says whether the landscape was read from the cache (also when another

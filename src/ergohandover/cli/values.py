@@ -161,6 +161,17 @@ def _file_in_the_way(path: Path) -> Path | None:
     return None
 
 
+def _can_write(text: str, folder: bool) -> None:
+    """Refuse, as typed, a place nothing can be written (checked as the flag is read, so
+    before any work and before any handover is asked)."""
+    from ..io.atomic import OutputError, check_writable
+
+    try:
+        check_writable(text, folder=folder)
+    except OutputError as exc:
+        raise BadValue(text, str(exc).split(": ", 1)[1]) from None
+
+
 def output_file(text: str) -> str:
     """A file to write, or ``-`` for standard output; its folder is created when written."""
     if text == "-":
@@ -171,6 +182,7 @@ def output_file(text: str) -> str:
     blocker = _file_in_the_way(path)
     if blocker is not None:
         raise BadValue(text, f"'{blocker}' is a file, so no folder can be made there")
+    _can_write(text, folder=False)
     return text
 
 
@@ -182,4 +194,5 @@ def output_folder(text: str) -> Path:
     blocker = _file_in_the_way(path)
     if blocker is not None:
         raise BadValue(text, f"'{blocker}' is a file, so no folder can be made there")
+    _can_write(text, folder=True)
     return path

@@ -7,6 +7,7 @@ encoding is named with what is wrong, not answered with a codec's or a tokenizer
 
 from __future__ import annotations
 
+import csv
 import io
 import os
 import sys
@@ -66,6 +67,26 @@ def open_source(source: str | os.PathLike | IO[str], what: str) -> IO[str]:
     return io.StringIO(decode_text(read_bytes(source, what), what))  # type: ignore[arg-type]
 
 
+SEPARATORS = {";": "semicolons", "\t": "tabs", "|": "vertical bars"}
+"""Separators some spreadsheets write that a comma-separated reader would take as one column."""
+
+
+def check_header(header: str, what: str) -> None:
+    """Refuse a header that is not comma-separated, or that names a column twice (a reader
+    would keep one of the two silently)."""
+    names = [n.strip().strip('"') for n in next(csv.reader([header]), [])]
+    if len(names) <= 1:
+        for mark, word in SEPARATORS.items():
+            if mark in header:
+                raise InputError(f"{what}: its columns are separated by {word}, not commas "
+                                 "(save it as comma-separated CSV)")
+    seen = set()
+    for name in names:
+        if name and name in seen:
+            raise InputError(f"{what}: column '{name}' is given twice (give each column once)")
+        seen.add(name)
+
+
 def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFrame:
     """Every cell of a CSV as text; an empty file or a header with no rows is an error.
 
@@ -73,8 +94,11 @@ def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFram
         source: a path, ``"-"`` for stdin, or an open text handle.
         what: how to name the input in messages (its file name).
     """
+    handle = open_source(source, what)
+    text = handle.read()
+    check_header(text.partition("\n")[0], what)
     try:
-        frame = pd.read_csv(open_source(source, what), dtype=str, keep_default_na=False,
+        frame = pd.read_csv(io.StringIO(text), dtype=str, keep_default_na=False,
                             skipinitialspace=True)
     except pd.errors.EmptyDataError:
         raise InputError(f"{what} is empty (expected a header row and at least one row)") \

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from typing import NamedTuple
 
 import numpy as np
@@ -94,6 +95,10 @@ class Answer(NamedTuple):
     posture: dict[str, float] | None = None
 
 
+DECIMAL_COMMA = re.compile(r"\d+,\d+")
+"""A score typed with a decimal comma; no posture row has two values."""
+
+
 class AnswerReader:
     """Turns answer lines into scores of ``objective``; remembers a posture header line.
 
@@ -150,6 +155,8 @@ class AnswerReader:
             return Answer(math.inf, "infeasible", text)
         if self.keypoints:
             return self._frame(text)
+        if DECIMAL_COMMA.fullmatch(text):  # 7,5: a score with a decimal comma, not a row
+            text = text.replace(",", ".")
         if "," in text:
             return self._posture(text)
         try:

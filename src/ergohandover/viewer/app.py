@@ -33,9 +33,17 @@ EXPECTED_SD_DEG = 5.0
 EXPECTED = f"expected paper_postural ({EXPECTED_SD_DEG:g} deg error)"
 """The colouring by the paper score expected under that error (computed when first chosen:
 the twin at every shown cell)."""
-# World frame (worker at the origin facing +x, left +y): from the front left, above, so that the
-# worker, the landscape in front of them and the robot beyond are all in view.
-CAMERA = {"eye": (2.2, 2.6, 2.0), "target": (0.5, 0.0, 0.9)}
+# World frame (worker at the origin facing +x, left +y): from the worker's left, above, so that the
+# worker, the box in their hands and the robot across it are in view, clear of the GUI panel on
+# the right.
+CAMERA = {"eye": (0.95, 2.1, 1.7), "target": (0.25, -0.05, 0.95)}
+SHOWN_ABOVE_MINIMUM = 1
+"""The cloud first shows the cells within this many points of the landscape's best paper
+score: the region worth handing over in, thin enough that the box and the hands inside it stay
+in view (every cell's point would bury them)."""
+LABEL_CLEARANCE = 0.03
+"""The chosen location's label stands this far [m] above the top face of a box held there, so
+that it names the location without covering the box or the hands."""
 
 
 def free_port() -> int:
@@ -135,8 +143,10 @@ class HandoverViewer:
             self.score = gui.add_dropdown("colour by", (*SCORES, EXPECTED),
                                           initial_value="paper_postural")
             values = self.landscape.arrays["paper_postural"][self.landscape.feasible]
-            self.ceiling = gui.add_slider("show scores <=", int(values.min()),
-                                          int(values.max()), 1, int(values.max()))
+            low = int(values.min())
+            high = max(int(values.max()), low + 1)  # a slider needs a range: one score too
+            self.ceiling = gui.add_slider("show scores <=", low, high, 1,
+                                          min(low + SHOWN_ABOVE_MINIMUM, high))
             self.point_size = gui.add_slider("point size [mm]", 1, 10, 1, 4)
         for control in (self.score, self.ceiling, self.point_size):
             control.on_update(lambda _: self.draw_cloud())
@@ -189,11 +199,25 @@ class HandoverViewer:
             self.target = gui.add_dropdown("location", tuple(self.named))
             button = gui.add_button("move the box there")
         button.on_click(lambda _: self.move_to(self.named[self.target.value]))
+        # One label, on the chosen location: the study's named locations lie within centimetres
+        # of one another (its optima, the learned one, the one-size ones all hug the box), so a
+        # label on each would cover the others from every viewpoint. The dropdown lists them
+        # all; clicking a marker chooses it.
         for k, (name, location) in enumerate(self.named.items()):
-            at = tuple(worker_to_world(location))
-            self.server.scene.add_icosphere(f"/named/{k}/marker", radius=0.012,
-                                            color=(40, 90, 220), position=at)
-            self.server.scene.add_label(f"/named/{k}/label", name, position=at)
+            marker = self.server.scene.add_icosphere(
+                f"/named/{k}", radius=0.012, color=(40, 90, 220),
+                position=tuple(worker_to_world(location)))
+            marker.on_click(lambda _, name=name: setattr(self.target, "value", name))
+        self.label = self.server.scene.add_label("/named_label", "", anchor="bottom-center")
+        self.label_lift = self.evaluator.task.box_height / 2 + LABEL_CLEARANCE
+        self.target.on_update(lambda _: self.show_label())
+        self.show_label()
+
+    def show_label(self) -> None:
+        """The label on the location chosen in the dropdown."""
+        self.label.text = self.target.value
+        self.label.position = tuple(worker_to_world(self.named[self.target.value])
+                                    + np.array([0.0, 0.0, self.label_lift]))
 
     # --- carries ---------------------------------------------------------------------------
     def _carry_gui(self, gui) -> None:
@@ -241,5 +265,6 @@ class HandoverViewer:
 
     def close(self) -> None:
         self.playing = False
-        self.server.stop()
+        with contextlib.redirect_stdout(io.StringIO()):  # viser's "server stopped"
+            self.server.stop()
         self.scene.close()
