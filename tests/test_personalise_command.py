@@ -65,13 +65,29 @@ def test_a_bad_answer_is_refused_in_one_line_and_asked_again(monkeypatch, capsys
     code, out, err = ask(monkeypatch, capsys, "6\n7.5x\n5\n", tmp_path / "s", "--trials", "2")
     assert code == 0
     refusals = [line for line in err.splitlines() if line.startswith("refused:")]
-    assert refusals == ["refused: '7.5x' is not an answer: expected a paper_postural score "
-                        "3-14, x if the worker cannot take the box there, or a posture CSV row"]
+    # A person is asked the score an ergonomist reads, REBA, unless --objective says otherwise.
+    assert refusals == ["refused: '7.5x' is not an answer: expected a REBA score 1-15, x if the "
+                        "worker cannot take the box there, or a posture CSV row"]
     # trial 2 was asked twice, then answered
     assert [n for n, _ in proposals(out)] == [1, 2]
-    assert out.split("trial 2/2")[1].count("score (paper_postural 3-14)") == 2
+    assert out.split("trial 2/2")[1].count("score (REBA 1-15)") == 2
     assert [h["score"] for h in history(tmp_path / "s")] == [6.0, 5.0]
-    assert "paper_postural 5, observed at trial 2; 2 of 2 trials used" in out
+    assert "reba 5, observed at trial 2; 2 of 2 trials used" in out
+
+
+def test_a_person_is_proposed_locations_they_can_tell_apart(monkeypatch, capsys, tmp_path):
+    """Proposals to a person lie on a grid of --resolution (5 cm by default): no two closer."""
+    code, out, _ = ask(monkeypatch, capsys, "6\n5\n4\n6\n5\n7\n", tmp_path / "s", "--trials",
+                       "6")
+    assert code == 0
+    trials = pd.read_csv(tmp_path / "s" / "trials.csv")[["x", "y", "z"]].to_numpy()
+    gaps = np.linalg.norm(trials[:, None] - trials[None], axis=-1)[np.triu_indices(6, 1)]
+    assert gaps.min() >= 0.05 - 1e-9
+    state = json.loads((tmp_path / "s" / "state.json").read_text())
+    assert state["settings"]["grid"]["step"] == command.RESOLUTION == 0.05
+    line = refused(["--oracle", "ask", "--step", "0.01", "--resolution", "0.05"], tmp_path,
+                   capsys)
+    assert "--step 0.01 and --resolution 0.05 both given: give one" in line
 
 
 def test_an_interrupted_session_resumes_with_the_proposals_it_would_have_made(
@@ -115,9 +131,10 @@ def test_the_acceptance_session_through_the_console_script(tmp_path):
                             capture_output=True, text=True, timeout=300)
     assert second.returncode == 0, second.stderr
     assert "resuming after trial 2" in second.stderr
-    assert re.search(r"^recommended: hand the box at x = [-+]\d+\.\d cm to the right, "
-                     r"y = \d+\.\d cm up, z = \d+\.\d cm forward, from the floor midway "
-                     r"between the worker's feet: paper_postural 3, observed at trial 3; "
+    assert re.search(r"^recommended: hand the box at \d+\.\d cm to the (left|right), "
+                     r"\d+\.\d cm up, \d+\.\d cm forward of the floor midway between the "
+                     r"worker's feet \(x, y, z = [-+]\d+\.\d, \d+\.\d, \d+\.\d cm\): reba 3, "
+                     r"observed at trial 3; "
                      r"4 of 4 trials used$", second.stdout, re.MULTILINE), second.stdout
     for name in ("trials.csv", "recommendation.csv", "manifest.json", "state.json"):
         assert (tmp_path / "run" / name).is_file()
@@ -268,9 +285,9 @@ def test_a_posture_row_is_scored_as_the_score_command_scores_it(monkeypatch, cap
 # The answers themselves --------------------------------------------------------------------
 
 @pytest.mark.parametrize(("line", "problem"), [
-    ("", "nothing typed: expected a paper_postural score 3-14"),
-    ("abc", "'abc' is not an answer: expected a paper_postural score 3-14, x if the worker"),
-    ("2", "'2' is outside 3-14, the range of paper_postural"),
+    ("", "nothing typed: expected a paper postural score 3-14"),
+    ("abc", "'abc' is not an answer: expected a paper postural score 3-14, x if the worker"),
+    ("2", "'2' is outside 3-14, the range of paper postural"),
     ("15", "'15' is outside 3-14"),
     ("nan", "'nan' is outside 3-14"),
     ("1,2,3", "a posture row of 3 values: expected 24 (the required Posture columns"),

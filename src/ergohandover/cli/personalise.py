@@ -51,6 +51,11 @@ PAUSED = 3
 """The exit code of a session that paused before its end because standard input ended: every
 answer is saved and a rerun resumes (not 0: the session has no recommendation yet; not 130:
 no signal stopped it)."""
+RESOLUTION = 0.05
+"""The smallest distance between proposals to a person [m]: a box is placed by hand to a few
+centimetres, and two handovers a centimetre apart are the same handover to the worker."""
+ASKED = "reba"
+"""The score a person answering at the prompt gives unless --objective says otherwise."""
 STATE = "state.json"
 PROPOSAL = "proposal.csv"
 
@@ -120,16 +125,21 @@ def add_parser(subparsers) -> None:
                         help=f"the searcher's seed, an integer >= 0 (default: {defaults.SEED})")
     search.add_argument("--objective", type=choice(OBJECTIVES), default=defaults.OBJECTIVE,
                         metavar="|".join(OBJECTIVES),
-                        help="what an answered score is, the searcher minimises it (an "
-                        f"ergonomist reading REBA: reba) (default: {defaults.OBJECTIVE}, the "
-                        "study's)")
+                        help="what an answered score is, the searcher minimises it (default: "
+                        f"{defaults.OBJECTIVE}, the study's; with --oracle ask, {ASKED}: the "
+                        "score an ergonomist reads)")
     search.add_argument("--boundary", type=boundary(BOUNDARY_NAMES), default=BOUNDARY,
                         metavar="|".join(BOUNDARY_NAMES) + "|X0,X1,Y0,Y1,Z0,Z1",
                         help=f"where locations may be proposed (default: {BOUNDARY}, the "
                         "personalisation study's)")
     search.add_argument("--step", type=number(0, None, "m", above=True), default=STEP,
                         metavar="S", help=f"grid step [m] (default: {STEP:g}, the "
-                        "personalisation study's)")
+                        "personalisation study's; with a person answering, --resolution's)")
+    search.add_argument("--resolution", type=number(0, None, "m", above=True),
+                        default=RESOLUTION, metavar="M",
+                        help="with --oracle ask or file: the smallest distance between two "
+                        "proposals [m], what a person can place a box to and tell apart; "
+                        f"proposals lie on a grid of that step (default: {RESOLUTION:g})")
     add_evaluator_arguments(parser)
     files = parser.add_argument_group("files")
     files.add_argument("--state", type=output_file, metavar="FILE",
@@ -147,6 +157,16 @@ def check(args: argparse.Namespace) -> None:
     from ..search.registry import entry
 
     flags = given(args)
+    person = args.oracle in ("ask", "file")
+    if "resolution" in flags and not person:
+        raise InputError("--resolution cannot be used with --oracle twin (the twin answers "
+                         "any grid; give --step)")
+    if person and "step" in flags and "resolution" in flags:
+        raise InputError(f"--step {args.step:g} and --resolution {args.resolution:g} both "
+                         "given: give one (with a person answering, the grid's step is the "
+                         "resolution)")
+    if person and "step" not in flags:
+        args.step = args.resolution
     if args.oracle == "file" and args.answer_file is None:
         raise InputError("--oracle file needs --answer-file CSV (the file answers are appended "
                          "to)")
@@ -155,6 +175,8 @@ def check(args: argparse.Namespace) -> None:
         args.answers = "pairwise" if told == "preferences" else "scores"
     if args.searcher is None:
         args.searcher = PAIRWISE_SEARCHER if args.answers == "pairwise" else DEFAULT_SEARCHER
+    if args.oracle == "ask" and args.answers == "scores" and "objective" not in flags:
+        args.objective = ASKED
     if (args.answers == "pairwise") != (entry(args.searcher).answers == "preferences"):
         raise InputError(f"--answers {args.answers}: --searcher {args.searcher} is told "
                          f"{entry(args.searcher).answers} (with --answers pairwise use "

@@ -95,6 +95,9 @@ class Answer(NamedTuple):
     posture: dict[str, float] | None = None
 
 
+SCORE_NAMES = {"paper_postural": "paper postural", "reba": "REBA",
+               "reba_ab": "REBA Table A + Table B", "rula": "RULA"}
+"""Each objective as a practitioner names it at the prompt."""
 DECIMAL_COMMA = re.compile(r"\d+,\d+")
 """A score typed with a decimal comma; no posture row has two values."""
 
@@ -132,8 +135,8 @@ class AnswerReader:
     def prompt(self) -> str:
         if self.keypoints:
             return f"a {self.keypoints[0].name} frame, or 'x' if the worker cannot take it there: "
-        return (f"score ({self.objective} {self.lo}-{self.hi}), 'x' if the worker cannot take "
-                "it there, or a posture CSV row: ")
+        return (f"score ({SCORE_NAMES[self.objective]} {self.lo}-{self.hi}), 'x' if the worker "
+                "cannot take it there, or a posture CSV row: ")
 
     @property
     def expected(self) -> str:
@@ -142,8 +145,8 @@ class AnswerReader:
             return (f"a {fmt.name} frame ({3 * len(fmt.joints)} numbers: x, y, z of each of its "
                     f"{len(fmt.joints)} joints in metres), or x if the worker cannot take the "
                     "box there")
-        return (f"a {self.objective} score {self.lo}-{self.hi}, x if the worker cannot take the "
-                "box there, or a posture CSV row")
+        return (f"a {SCORE_NAMES[self.objective]} score {self.lo}-{self.hi}, x if the worker "
+                "cannot take the box there, or a posture CSV row")
 
     def read(self, line: str) -> Answer | None:
         """The answer of ``line``, or None for a posture header line (noted for the rows that
@@ -165,7 +168,7 @@ class AnswerReader:
             raise Refused(f"{text!r} is not an answer: expected {self.expected}") from None
         if not (math.isfinite(value) and self.lo <= value <= self.hi):
             raise Refused(f"{text!r} is outside {self.lo}-{self.hi}, the range of "
-                          f"{self.objective}: expected {self.expected}")
+                          f"{SCORE_NAMES[self.objective]}: expected {self.expected}")
         return Answer(value, "score", text)
 
     def _posture(self, text: str) -> Answer | None:

@@ -45,8 +45,9 @@ class Proposal(NamedTuple):
 def in_cm(location) -> str:
     """A worker-frame location in centimetres, as a person setting up a handover reads it."""
     x, y, z = (round(100.0 * float(v), 1) + 0.0 for v in location)  # + 0.0: never "-0.0"
-    return (f"x = {x:+.1f} cm to the right, y = {y:.1f} cm up, z = {z:.1f} cm forward, from "
-            "the floor midway between the worker's feet")
+    side = "left" if x < 0 else "right"
+    return (f"{abs(x):.1f} cm to the {side}, {y:.1f} cm up, {z:.1f} cm forward of the floor "
+            f"midway between the worker's feet (x, y, z = {x:+.1f}, {y:.1f}, {z:.1f} cm)")
 
 
 class Oracle(ABC):
