@@ -46,6 +46,10 @@ def is_done(folder: Path, inputs: dict[str, Any]) -> bool:
     return manifest.get("part_hash") == part_hash(inputs)
 
 
+_ANNOUNCED: set[Path] = set()
+"""The finished parts this process has said it reuses."""
+
+
 def run_part(name: str, folder: Path, inputs: dict[str, Any],
              work: Callable[[Path], dict[str, Any] | None], seeds: dict[str, int] | None = None,
              force: bool = False, engine: Any = None) -> bool:
@@ -65,7 +69,9 @@ def run_part(name: str, folder: Path, inputs: dict[str, Any],
     """
     restore_swapped(folder)
     if not force and is_done(folder, inputs):
-        print(f"[{name}] reusing finished results in {folder}")
+        if folder not in _ANNOUNCED:  # a part read by several others is said once
+            print(f"[{name}] reusing finished results in {folder}")
+            _ANNOUNCED.add(folder)
         return False
     stage = staging_folder(folder)
     shutil.rmtree(stage, ignore_errors=True)  # what a killed run left
