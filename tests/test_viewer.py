@@ -6,22 +6,18 @@ working directory."""
 
 from __future__ import annotations
 
-import base64
-import json
 import os
 import shutil
 import socket
 import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 from PIL import Image
-from websockets.sync.client import connect
 
 pytest.importorskip("viser")
 
@@ -38,6 +34,7 @@ from ergohandover.viewer.app import (
     free_port,
     start_server,
 )
+from ergohandover.viewer.chromium import DevToolsPage
 from ergohandover.viewer.handover import panel_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -53,53 +50,17 @@ SERVE_S = 30.0
 """On a fresh clone (an empty landscape cache) ``ergohandover view`` serves within this."""
 
 
-class Browser:
-    """Headless Chromium (software WebGL) driven through its DevTools protocol, so that a test
-    waits in real time for what a person would wait for: the page's panel, then the scene's
-    fade-in. (A fixed virtual-time budget can end before a busy machine has sent the scene.)"""
+class Browser(DevToolsPage):
+    """The viewer's page as a test reads it: waits for its panel, then the scene's fade-in."""
 
     def __init__(self):
-        port = free_port()
-        self.process = subprocess.Popen(
-            [CHROMIUM, "--headless", "--no-sandbox", "--use-gl=angle",
-             "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-             f"--remote-debugging-port={port}", "--remote-allow-origins=*",
-             f"--window-size={SIZE[0]},{SIZE[1]}", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        deadline = time.monotonic() + 60
-        pages = []
-        while not pages:
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list") as answer:
-                    pages = [t for t in json.load(answer) if t["type"] == "page"]
-            except OSError:
-                pass
-            if not pages and time.monotonic() > deadline:
-                raise RuntimeError("headless Chromium did not start")
-            time.sleep(0.2)
-        self.socket = connect(pages[0]["webSocketDebuggerUrl"], max_size=None)
-        self.calls = 0
-        self.call("Emulation.setDeviceMetricsOverride", width=SIZE[0], height=SIZE[1],
-                  deviceScaleFactor=1, mobile=False)
-
-    def call(self, method: str, **params) -> dict:
-        self.calls += 1
-        self.socket.send(json.dumps({"id": self.calls, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.socket.recv())
-            if message.get("id") == self.calls:
-                return message.get("result", {})
-
-    def html(self) -> str:
-        found = self.call("Runtime.evaluate", expression="document.body.innerHTML",
-                          returnByValue=True)
-        return found.get("result", {}).get("value", "")
+        super().__init__(SIZE)
 
     def open(self, url: str, ready: str = "<canvas", settle_s: float = 3.0,
              timeout_s: float = 90.0) -> str:
         """Load ``url``, wait until its HTML holds ``ready``, let the scene settle (its meshes
         fade in); the page's HTML."""
-        self.call("Page.navigate", url=url)
+        self.navigate(url)
         return self.wait_for(ready, settle_s, timeout_s)
 
     def wait_for(self, ready: str, settle_s: float = 3.0, timeout_s: float = 90.0) -> str:
@@ -112,8 +73,7 @@ class Browser:
 
     def screenshot(self, path: Path) -> np.ndarray:
         """The page as a PNG at ``path``; its scene's pixels."""
-        data = self.call("Page.captureScreenshot", format="png")["data"]
-        path.write_bytes(base64.b64decode(data))
+        path.write_bytes(self.png())
         return pixels(path)
 
     def screenshot_when(self, path: Path, shown, timeout_s: float = 120.0) -> np.ndarray:
@@ -125,11 +85,6 @@ class Browser:
             time.sleep(1.0)
             image = self.screenshot(path)
         return image
-
-    def close(self) -> None:
-        self.socket.close()
-        self.process.kill()
-        self.process.wait()
 
 
 @pytest.fixture

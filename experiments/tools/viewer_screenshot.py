@@ -15,20 +15,15 @@ Needs the viewer extra and Debian's ``chromium`` (software WebGL: ``--use-angle=
 from __future__ import annotations
 
 import argparse
-import base64
-import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
 import time
-import urllib.request
 from pathlib import Path
 
-from websockets.sync.client import connect
-
 from ergohandover.viewer.app import free_port
+from ergohandover.viewer.chromium import DevToolsPage, chromium
 
 ROOT = Path(__file__).resolve().parents[2]
 SIZE = (1280, 800)
@@ -37,51 +32,13 @@ HIDE_NOTICES = ("document.querySelectorAll('.mantine-Notifications-root')"
                 ".forEach(n => n.style.display = 'none')")
 
 
-class DevTools:
-    """Headless Chromium driven through its DevTools protocol: the page is shot once it has
-    drawn the scene (a fixed virtual-time budget may end first on a busy machine)."""
-
-    def __init__(self, chromium: str):
-        port = free_port()
-        self.process = subprocess.Popen(
-            [chromium, "--headless", "--no-sandbox", "--use-gl=angle",
-             "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-             f"--remote-debugging-port={port}", "--remote-allow-origins=*",
-             f"--window-size={SIZE[0]},{SIZE[1]}", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        pages, deadline = [], time.monotonic() + 60
-        while not pages and time.monotonic() < deadline:
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list") as answer:
-                    pages = [t for t in json.load(answer) if t["type"] == "page"]
-            except OSError:
-                time.sleep(0.2)
-        if not pages:
-            raise SystemExit("headless Chromium did not start")
-        self.socket = connect(pages[0]["webSocketDebuggerUrl"], max_size=None)
-        self.calls = 0
-        self.call("Emulation.setDeviceMetricsOverride", width=SIZE[0], height=SIZE[1],
-                  deviceScaleFactor=1, mobile=False)
-
-    def call(self, method: str, **params) -> dict:
-        self.calls += 1
-        self.socket.send(json.dumps({"id": self.calls, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.socket.recv())
-            if message.get("id") == self.calls:
-                return message.get("result", {})
-
-    def evaluate(self, expression: str):
-        found = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
-        return found.get("result", {}).get("value")
-
-    def png(self) -> bytes:
-        return base64.b64decode(self.call("Page.captureScreenshot", format="png")["data"])
+class DevTools(DevToolsPage):
+    """The page shot once it has drawn the scene."""
 
     def shoot(self, url: str, timeout_s: float = 180.0) -> bytes:
         """The page at ``url`` once its panel shows :data:`READY` and two screenshots a few
         seconds apart agree (the scene's meshes have faded in)."""
-        self.call("Page.navigate", url=url)
+        self.navigate(url)
         deadline = time.monotonic() + timeout_s
         while READY not in (self.evaluate("document.body.innerHTML") or ""):
             if time.monotonic() > deadline:
@@ -94,12 +51,6 @@ class DevTools:
             self.evaluate(HIDE_NOTICES)
             last, shot = shot, self.png()
         return shot
-
-    def close(self) -> None:
-        self.socket.close()
-        self.process.kill()
-        self.process.wait()
-
 
 def serve(port: int, cache: Path | None) -> subprocess.Popen:
     """``ergohandover view`` on ``port`` (the landscape cache ``cache``, else the user's), once
@@ -127,13 +78,11 @@ def main() -> None:
                         help="the landscape cache as it is (default: an empty one, as on a "
                         "fresh clone)")
     args = parser.parse_args()
-    chromium = shutil.which("chromium")
-    if chromium is None:
-        raise SystemExit("chromium is not installed (apt-get install chromium)")
+    chromium()  # installed, or one line saying how
     port = free_port()
     with tempfile.TemporaryDirectory() as empty:
         command = serve(port, None if args.use_cache else Path(empty))
-        browser = DevTools(chromium)
+        browser = DevTools(SIZE)
         try:
             args.output.write_bytes(browser.shoot(f"http://127.0.0.1:{port}"))
         finally:
