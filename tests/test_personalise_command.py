@@ -77,8 +77,8 @@ def test_a_bad_answer_is_refused_in_one_line_and_asked_again(monkeypatch, capsys
 
 def test_a_person_is_proposed_locations_they_can_tell_apart(monkeypatch, capsys, tmp_path):
     """Proposals to a person lie on a grid of --resolution (5 cm by default): no two closer."""
-    code, out, _ = ask(monkeypatch, capsys, "6\n5\n4\n6\n5\n7\n", tmp_path / "s", "--trials",
-                       "6")
+    code, _, _ = ask(monkeypatch, capsys, "6\n5\n4\n6\n5\n7\n", tmp_path / "s", "--trials",
+                     "6")
     assert code == 0
     trials = pd.read_csv(tmp_path / "s" / "trials.csv")[["x", "y", "z"]].to_numpy()
     gaps = np.linalg.norm(trials[:, None] - trials[None], axis=-1)[np.triu_indices(6, 1)]

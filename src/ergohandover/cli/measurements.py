@@ -4,8 +4,8 @@
 ``--measurements FILE`` reads a one-row CSV whose columns are the ANSUR II survey's (the
 public data files' names and units: millimetres, weight in tenths of a kilogram; the files'
 other columns are ignored, so a row copied from them works, a column they lack is refused, and
-their ``Gender`` column gives the sex unless ``--sex`` does). Whatever is not given is filled in by the body model fitted to the
-survey, given what is.
+their ``Gender`` column gives the sex unless ``--sex`` does). Whatever is not given is filled
+in by the body model fitted to the survey, given what is.
 """
 
 from __future__ import annotations
