@@ -140,13 +140,13 @@ def add_yes_argument(parser: argparse.ArgumentParser, what: str) -> None:
 
 
 def check_work(args: argparse.Namespace, flag: str, amount: int, bound: int, unit: str,
-               seconds_each: float, memory_bytes: float, too_big: bool = False) -> None:
+               seconds: float, memory_bytes: float, too_big: bool = False) -> None:
     """Refuse work beyond ``bound`` (``amount`` of ``unit``), or ``too_big`` for memory,
-    unless ``--yes``: one line with the estimate, from a rate just measured on this machine
-    (``seconds_each``, per unit and core) and the memory it needs at once."""
+    unless ``--yes``: one line with the estimate, the time from a rate just measured on this
+    machine (``seconds`` in all) and the memory it needs at once."""
     if amount <= bound and not too_big:
         return
-    hours = amount * seconds_each / max(1, getattr(args, "workers", 1) or 1) / 3600
+    hours = seconds / 3600
     estimate = (f"about {hours:,.1f} h" if hours >= 1 else f"about {hours * 60:,.0f} min") + \
         f" and {memory_bytes / 1e9:,.1f} GB of memory on this machine"
     if not args.yes:

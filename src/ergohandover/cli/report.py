@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import shutil
+import os
 import sys
 import tempfile
 from pathlib import Path
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io.atomic import atomic_write, atomic_write_csv
+from ..io.atomic import atomic_write_csv, nearest_existing
 from ..io.csv_input import InputError
 from ..study.script import ROOT
 from .options import (
@@ -140,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
              f"at {lift.lift_destination:g} m (revised NIOSH equation, Waters et al. 1993). "
              "Back: static sagittal model, 5 cm erector arm; limits 3,400 N and 6,400 N "
              "(NIOSH 1981); % capable assumes strength CV 0.277.", *notes]
-    with tempfile.TemporaryDirectory(prefix=".report-", dir=_parent(output)) as tmp:
+    with tempfile.TemporaryDirectory(prefix=".report-", dir=nearest_existing(output)) as tmp:
         tmp = Path(tmp)
         render_points(table, points, evaluator, tmp / "pictures")
         pages = []
@@ -161,24 +161,15 @@ def run(args: argparse.Namespace) -> int:
                          tmp / "report.csv")
         if args.pdf:
             print_pdf(tmp / "report.html", tmp / "report.pdf")
-        # All outputs or none: everything made, then moved in.
+        # All outputs or none: everything made beside the output (one file system), then
+        # renamed in, the page last.
         output.mkdir(parents=True, exist_ok=True)
-        for i in range(len(rows)):
-            shutil.move(tmp / "pictures" / f"point_{i + 1:04d}.png",
-                        output / f"location_{i + 1:02d}.png")
-        for name in ("report.csv", "report.pdf", "report.html"):
-            if (tmp / name).exists():
-                atomic_write(output / name, lambda h, n=name: h.write((tmp / n).read_bytes()),
-                             binary=True)
+        made = {tmp / "pictures" / f"point_{i + 1:04d}.png": output / f"location_{i + 1:02d}.png"
+                for i in range(len(rows))}
+        made |= {tmp / name: output / name for name in ("report.csv", "report.pdf", "report.html")
+                 if (tmp / name).exists()}
+        for source, target in made.items():
+            os.replace(source, target)
     print(f"reported {len(rows)} location(s) -> {output}/report.html"
           + (" and report.pdf" if args.pdf else ""), file=sys.stderr)
     return 0
-
-
-def _parent(output: Path) -> Path:
-    """The nearest existing folder at or above ``output`` (the temporary folder goes there, so
-    the final moves stay on one file system)."""
-    folder = output.resolve()
-    while not folder.exists():
-        folder = folder.parent
-    return folder

@@ -13,7 +13,7 @@ import pandas as pd
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
 from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS, REQUIRED_COLUMNS
 from ..io.atomic import atomic_write_csv
-from ..io.csv_input import InputError
+from ..io.csv_input import InputError, numeric_columns
 from ..io.posture_csv import read_postures
 from . import defaults
 from .options import (
@@ -207,14 +207,13 @@ def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace) -> pd.
         missing = sorted({"x", "y", "z"} - set(located))
         raise InputError(f"{args.input}: has {', '.join(located)} but not {', '.join(missing)} "
                          "(the box's location needs all three, or none)")
-    for c in located:
-        values = pd.to_numeric(text[c], errors="coerce").to_numpy(dtype=float)
-        floor = c == "y"  # the hands' height: above the floor
-        bad = np.flatnonzero(~np.isfinite(values) | ((values < 0) if floor else False))
+    allowed = {"x": "a finite coordinate in metres", "y": "a height in metres >= 0",
+               "z": "a finite coordinate in metres"}  # y: the hands' height, above the floor
+    for c, values in numeric_columns(text, {c: allowed[c] for c in located}, args.input).items():
+        bad = np.flatnonzero(~np.isfinite(values) | ((values < 0) if c == "y" else False))
         if bad.size:
-            allowed = "a height in metres >= 0" if floor else "a finite coordinate in metres"
             raise InputError(f"{args.input}: row {bad[0] + 1}, column '{c}': "
-                             f"{text[c].iloc[bad[0]]} is not allowed (expected {allowed})")
+                             f"{text[c].iloc[bad[0]]} is not allowed (expected {allowed[c]})")
         table[c] = values
     return workload_table(table, Levers.of(body_from_args(args)), lift_from_args(args))
 

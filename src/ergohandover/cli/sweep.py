@@ -96,7 +96,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     if grid.size > MAX_POINTS:
         seconds_each, bytes_each = sweep_cost(evaluator, grid)
         check_work(args, f"--step {args.step:g}", grid.size, MAX_POINTS, "points",
-                   seconds_each, grid.size * bytes_each)
+                   grid.size * seconds_each / args.workers, grid.size * bytes_each)
     print(grid.describe(), file=sys.stderr)
     start = time.perf_counter()
     # The door that also says whether the landscape was read from the cache (also when another

@@ -35,21 +35,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], None],
     path = Path(path)
     if not path.parent.is_dir():
         raise OutputError(f"output directory '{path.parent}' does not exist")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:  # named as the caller gave it, not as the hidden temporary file
-        raise OutputError(f"{path}: cannot be written ({exc.strerror or exc})") from None
-    try:
-        # mkstemp creates the file private (0600); give it the permissions open() would.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", newline="")) as handle:
-            write(handle)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    atomic_write_all({path: write}, binary)
     return path
 
 
@@ -85,8 +71,9 @@ def check_writable(path: str | os.PathLike, folder: bool = False) -> None:
 
 
 def atomic_write_all(writes: dict[Path, Callable[[IO], None]], binary: bool = False) -> None:
-    """Several files, all or none: each is written to a temporary file beside it, and only
-    when every one is complete are they renamed into place (a failure removes them all)."""
+    """Several files, all or none: each is written through its ``write(handle)`` to a temporary
+    file beside it (same file system, so the rename is atomic), and only when every one is
+    complete are they renamed into place; a failure removes them all."""
     made: list[tuple[Path, Path]] = []
     try:
         for path, write in writes.items():
@@ -94,9 +81,10 @@ def atomic_write_all(writes: dict[Path, Callable[[IO], None]], binary: bool = Fa
             try:
                 fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
                                            dir=path.parent)
-            except OSError as exc:
+            except OSError as exc:  # named as the caller gave it, not as the temporary file
                 raise OutputError(f"{path}: cannot be written ({exc.strerror or exc})") from None
             made.append((Path(tmp), path))
+            # mkstemp creates the file private (0600); give it the permissions open() would.
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(tmp, 0o666 & ~umask)

@@ -96,6 +96,14 @@ def perturbed(posture: Posture, model: ErrorModel, draws: int,
                     else np.repeat(values, draws) for name, values in posture.items()})
 
 
+def measured_alike(posture: Posture, errors: dict[str, np.ndarray], draws: int) -> Posture:
+    """Each posture measured ``draws`` times with the same ``draws`` errors (common random
+    numbers: differences between postures are far more precise than each one's mean),
+    posture-major."""
+    return Posture({name: _measured(values, errors[name], draws, tile=True) if name in errors
+                    else np.repeat(values, draws) for name, values in posture.items()})
+
+
 def angles_of(columns) -> dict[str, float]:
     """The first row's angles (every angle column of the Posture table) of a Posture or of
     columns of arrays."""
@@ -199,9 +207,7 @@ def expected_scores(posture: Posture, model: ErrorModel, draws: int, seed: int,
     out = np.empty(posture.n)
     for start in range(0, posture.n, per_chunk):
         index = np.arange(start, min(start + per_chunk, posture.n))
-        columns = {name: _measured(values, errors[name], draws, tile=True) if name in errors
-                   else np.repeat(values, draws)
-                   for name, values in posture.take(index).items()}
-        measured = score_postures(Posture(columns), settings, names=(score,))[score]
+        measured = score_postures(measured_alike(posture.take(index), errors, draws), settings,
+                                  names=(score,))[score]
         out[index] = measured.reshape(len(index), draws).mean(axis=1)
     return out

@@ -21,6 +21,7 @@ import numpy as np
 from ..ergonomics import Posture, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..robustness.measured_error import MEASURED_ERROR
+from ..robustness.posture_error import measured_alike
 from ..twin.evaluate import Evaluator, evaluate_arrays
 
 
@@ -34,12 +35,11 @@ def accommodated(job: tuple) -> dict[str, np.ndarray]:
     rows = evaluate_arrays(points, evaluator)
     feasible = rows["flags"] == 0
     n = int(feasible.sum())
-    posture = {c: np.asarray(rows[c], dtype=float)[feasible] for c in POSTURE_COLUMNS}
-    exact = score_postures(Posture(posture), evaluator.scoring, names=("reba", "rula"))
+    posture = Posture({c: np.asarray(rows[c], dtype=float)[feasible] for c in POSTURE_COLUMNS})
+    exact = score_postures(posture, evaluator.scoring, names=("reba", "rula"))
     errors = MEASURED_ERROR.errors(draws, np.random.default_rng(seed))
-    measured = {c: (np.repeat(v, draws) + np.tile(errors[c], n)).clip(-180.0, 180.0)
-                if c in errors else np.repeat(v, draws) for c, v in posture.items()}
-    scored = score_postures(Posture(measured), evaluator.scoring, names=("reba", "rula"))
+    scored = score_postures(measured_alike(posture, errors, draws), evaluator.scoring,
+                            names=("reba", "rula"))
     within = (scored["reba"] <= reba_max) & (scored["rula"] <= rula_max)
     out = {"feasible": feasible, "reba": np.full(len(points), -1, np.int8),
            "rula": np.full(len(points), -1, np.int8), "exact": np.zeros(len(points), bool),

@@ -171,7 +171,6 @@ def lift_at(locations: np.ndarray, load_kg: np.ndarray, coupling_level: np.ndarr
                     np.array(COUPLING_OF_LEVEL)[level])
     rwl = recommended_weight_limit(m)
     load = np.asarray(load_kg, dtype=float)
-    with np.errstate(divide="ignore"):
-        li = np.where(rwl > 0, load / np.where(rwl > 0, rwl, 1.0), np.inf)
+    li = np.where(rwl > 0, load / np.where(rwl > 0, rwl, 1.0), np.inf)
     return {"niosh_h_cm": h, "niosh_v_cm": v, "niosh_d_cm": d, "niosh_a_deg": a, **m,
             "niosh_rwl_kg": rwl, "niosh_li": li}
