@@ -22,8 +22,8 @@ import numpy as np
 from ergohandover.scene.carries import CarryJob, plan_carries
 from ergohandover.scene.robot import GRASPS
 from ergohandover.scene.world import WorkerPosture, World
-from ergohandover.study.baselines import PAPER_STARTS
-from ergohandover.study.parts.landscape import recorded_optimum
+from ergohandover.study.baselines.comparison import PAPER_STARTS
+from ergohandover.study.landscape.recorded import recorded_optimum
 from ergohandover.twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
 
 OPTIMUM = recorded_optimum(Path(__file__).resolve().parents[1] / "results")

@@ -24,10 +24,12 @@ Parts, in order:
                 published angle errors
   people        the twin beside 957 measured handovers: where people received, its posture
                 prediction, its recommendation against them, a fit of its weights held out
+  manikins      the four standard manikins at the robustness part's headline locations
+  accommodation 1,000 workers: where REBA and RULA stay low for most of a workforce
   figures       results/tables.md and paper_figs/*.png, built only from results/
 
-Configurations (experiments/configs/, each what differs from the defaults in
-ergohandover.study.config; --show-config prints the resolved one):
+Configurations (experiments/configs/, each what differs from the defaults in the
+questions' config.py files; --show-config prints the resolved one):
   default.json  the study (the default)
   quick.json    coarse grids and second-long caps, into results/quick/ (--quick; minutes)
   paper.json    the paper's own protocol: 10 Q-learning runs at 2 and 10 at 5 minutes of wall
@@ -38,9 +40,12 @@ ergohandover.study.config; --show-config prints the resolved one):
   personalise_full.json  every searcher further, Bayesian optimisation also from scratch
                 (hours on 2 cores: --only personalise, on Ray)
 
---only PART runs one part (repeatable) and redraws its figures. --engine ray [--address ...]
-runs every part's independent jobs (learning runs, the landscapes of workers and variants,
-the robot's carries) on Ray, with the same results.
+Each part is a study question (src/ergohandover/study/<part>/) whose registry entry
+(ergohandover.study.registry) declares the parts it needs: --only PART (repeatable) runs it
+after every part it needs (each reused when finished; --force reruns only the named ones) and
+redraws its figures. Each part prints its time against its declared budget.
+--engine ray [--address ...] runs every part's independent jobs (learning runs, the
+landscapes of workers and variants, the robot's carries) on Ray, with the same results.
 """
 
 from __future__ import annotations
@@ -57,7 +62,7 @@ from pathlib import Path
 from ergohandover.errors import ErgohandoverError
 from ergohandover.executor import clean_stop
 from ergohandover.io.atomic import OutputError, check_writable
-from ergohandover.study.parts import PARTS, part
+from ergohandover.study.registry import PARTS, QUESTIONS, part, question, run_order
 from ergohandover.study.resume import is_done
 from ergohandover.study.script import add_study_arguments, duration, fail, study_from_args
 
@@ -67,12 +72,7 @@ STEPS = (*PARTS, "figures")
 COMMITTED = {"default": ROOT / "results", "quick": ROOT / "results" / "quick"}
 """Where each mode's last run left its manifests: a part's estimate is its time there when the
 results folder being written has none of its own."""
-PART_FIGURES = {"landscape": "fig_score_distribution", "learning": "fig_learning",
-                "baselines": "fig_baselines", "participants": "fig_participants",
-                "population": "fig_population", "sensitivity": "fig_sensitivity",
-                "validation": "fig_validation", "robustness": "fig_robustness",
-                "personalise": "fig_personalise", "capture": "fig_capture",
-                "people": "fig_people", "accommodation": "fig_accommodation"}
+PART_FIGURES = {q.name: q.figure for q in QUESTIONS if q.figure}
 """Each part's figure script (each reads that part's results only)."""
 FIGURE_SCRIPTS = (*PART_FIGURES.values(), "make_tables")
 
@@ -118,8 +118,12 @@ def main(argv: list[str] | None = None) -> int:
             check_writable(folder, folder=True)
         except OutputError as exc:
             fail(OutputError(f"{flag} {exc}"))
-    steps = args.only or list(STEPS)
-    todo = [p for p in steps if p == "figures" or args.force
+    # What --only names, with every question it needs (reused when finished), in run order.
+    named = args.only or list(STEPS)
+    steps = [*run_order([p for p in named if p != "figures"]),
+             *(["figures"] if "figures" in named else [])]
+    forced = {p for p in named if args.force}
+    todo = [p for p in steps if p == "figures" or p in forced
             or not is_done(results / p, config.part_inputs(p))]
     found = {p: estimate(p, results, mode, config, engine.workers) for p in todo}
     seconds = {p: s for p, s in found.items() if s is not None}
@@ -136,7 +140,8 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     try:
         with clean_stop(resumes=True), engine.session():
-            run_steps(steps, config, results, figures, engine, args.force)
+            run_steps(steps, config, results, figures, engine, forced,
+                      redraw=set(args.only or ()))
     except ErgohandoverError as exc:
         fail(exc)
     estimated = f" (estimated {duration(total)})" if seconds else ""
@@ -145,17 +150,22 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run_steps(steps: list[str], config, results: Path, figures: Path, engine,
-              force: bool) -> None:
+              forced: set[str], redraw: set[str] = frozenset()) -> None:
+    """Run each step in order (a finished part is reused unless it is in ``forced``); each part
+    in ``redraw`` (those --only names) redraws its own figures."""
     for step in steps:
         t0 = time.perf_counter()
         print(f"== {step}")
         if step == "figures":
             build_figures(results, figures)
         else:
-            part(step).run(config, results, engine, force=force)
-            if "figures" not in steps and step in PART_FIGURES:  # --only PART: its figures
+            part(step).run(config, results, engine, force=step in forced)
+            if step in redraw and "figures" not in steps and step in PART_FIGURES:
                 build_figures(results, figures, (PART_FIGURES[step],))
-        print(f"   {step}: {time.perf_counter() - t0:.0f} s")
+        took = time.perf_counter() - t0
+        budget = f" of its {duration(question(step).budget_s)} budget" if step != "figures" \
+            else ""
+        print(f"   {step}: {duration(took)}{budget}")
 
 
 def estimate(step: str, results: Path, mode: str, config, workers: int) -> float | None:

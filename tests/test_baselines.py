@@ -16,7 +16,12 @@ from ergohandover.cli import main
 from ergohandover.landscape import landscape_of
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimisers
-from ergohandover.study.baselines import PAPER_STARTS, optimised, paper_result, shortest_distance
+from ergohandover.study.baselines.comparison import (
+    PAPER_STARTS,
+    optimised,
+    paper_result,
+    shortest_distance,
+)
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from ergohandover.capture import FORMATS
-from ergohandover.study.capture_accuracy import column_table, score_table, twin_postures
+from ergohandover.study.capture.accuracy import column_table, score_table, twin_postures
 from ergohandover.twin.evaluate import Evaluator
 
 EXACT = ("h36m17", "zed34", "smpl24")

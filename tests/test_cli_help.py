@@ -29,8 +29,9 @@ from ergohandover.ergonomics import ScoringSettings
 from ergohandover.landscape.cache import landscape_key
 from ergohandover.scene.robot import RobotSpec
 from ergohandover.search.qlearning import QLearningConfig
-from ergohandover.study.config import StudyConfig, Target
-from ergohandover.study.parts.shared import grid_of
+from ergohandover.study.config import StudyConfig
+from ergohandover.study.learning.config import Target
+from ergohandover.study.shared import grid_of
 from ergohandover.twin.anthropometry import MASS_RANGE_KG, STATURE_RANGE_M
 from ergohandover.twin.task import TaskSpec
 

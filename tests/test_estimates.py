@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 
 from ergohandover.study.config import StudyConfig
-from ergohandover.study.parts import PARTS, learning
+from ergohandover.study.learning import part as learning
+from ergohandover.study.registry import PARTS
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "results"

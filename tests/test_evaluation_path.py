@@ -14,7 +14,7 @@ import pandas as pd
 
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.store import landscape_of
-from ergohandover.study.participants import participant_study
+from ergohandover.study.participants.simulated import participant_study
 from ergohandover.twin.evaluate import Evaluator, evaluate, evaluate_arrays
 from ergohandover.twin.task import Boundary
 

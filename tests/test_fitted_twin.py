@@ -14,8 +14,8 @@ from ergohandover.landscape.grid import Grid
 from ergohandover.robustness.posture_error import ErrorModel
 from ergohandover.search import Budget, make, run
 from ergohandover.search.fitted_twin import FIT, TwinLibrary, fit
-from ergohandover.search.measured import MeasuredScores
 from ergohandover.search.prior import Prior
+from ergohandover.study.personalise.measured import MeasuredScores
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import Evaluator, evaluate_arrays
 from ergohandover.twin.task import Boundary
@@ -69,7 +69,11 @@ def test_a_fit_needs_a_feasible_handover_and_the_searcher_needs_twins():
 
 
 def test_measured_runs_read_the_fitted_twins_choice_at_every_budget():
-    from ergohandover.study.measured_answers import Answers, MeasuredJob, run_measured_job
+    from ergohandover.study.personalise.measured_answers import (
+        Answers,
+        MeasuredJob,
+        run_measured_job,
+    )
 
     job = MeasuredJob("p95-male", "in-model", EVALUATORS[2], GRID, "paper_postural",
                       "fitted-twin", Answers("posture", 2.0), (3, 5, 8), (7,), PRIOR,

@@ -8,13 +8,13 @@ import pytest
 
 from ergohandover.landscape.store import landscape_of
 from ergohandover.study.config import StudyConfig
-from ergohandover.study.handover_validation import (
+from ergohandover.study.shared import grid_of
+from ergohandover.study.validation.handovers import (
     handover_table,
     placements,
     receiver_twin,
     reference,
 )
-from ergohandover.study.parts.shared import grid_of
 
 
 def test_the_reference_carries_its_source_and_licence():

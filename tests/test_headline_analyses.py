@@ -22,13 +22,13 @@ from ergohandover.robustness.measured_error import (
 )
 from ergohandover.robustness.posture_error import ANGLE_COLUMNS, ErrorModel, monte_carlo
 from ergohandover.robustness.search import robust_optimum
-from ergohandover.study.robustness import without_optimism
-from ergohandover.study.who_pays import (
+from ergohandover.study.population.who_pays import (
     PLANNED,
     restricted_cubic_spline,
     sex_and_stature_tests,
     with_holm,
 )
+from ergohandover.study.robustness.analysis import without_optimism
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments" / "analysis"))

@@ -21,7 +21,7 @@ import readme_blocks  # noqa: E402
 import robustness_verdicts  # noqa: E402
 from test_readme import headline_rows  # noqa: E402
 
-from ergohandover.study.who_pays import PLANNED  # noqa: E402
+from ergohandover.study.population.who_pays import PLANNED  # noqa: E402
 
 RULES = headline_rules.rules(RESULTS)
 ROWS = {label: ours for label, (_, _, ours) in headline_rows().items()}

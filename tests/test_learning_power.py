@@ -30,10 +30,11 @@ from ergohandover.search.statistics import (
     tost_power,
     verdict,
 )
-from ergohandover.study.config import StepBudget, StudyConfig
-from ergohandover.study.learning_runs import RunJob, budget_rows, run_job, run_seed
-from ergohandover.study.learning_summary import comparisons
-from ergohandover.study.parts.learning import CHEAP, cheap, plan_jobs
+from ergohandover.study.config import StudyConfig
+from ergohandover.study.learning.config import StepBudget
+from ergohandover.study.learning.part import CHEAP, cheap, plan_jobs
+from ergohandover.study.learning.runs import RunJob, budget_rows, run_job, run_seed
+from ergohandover.study.learning.summary import comparisons
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
@@ -223,7 +224,7 @@ def test_the_stated_power_is_what_the_tests_do():
 def test_a_job_uses_the_target_its_parent_prepared(rugged_file, monkeypatch):
     """The parent computes each target once before the pool forks; a job then reads no
     landscape of its own."""
-    from ergohandover.study import learning_runs
+    from ergohandover.study.learning import runs as learning_runs
 
     evaluator, grid = rugged_file
     landscape = Landscape(grid, landscape_key(evaluator, grid), rugged_landscape().arrays, {})

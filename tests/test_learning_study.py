@@ -31,11 +31,12 @@ from ergohandover.search.statistics import (
 )
 from ergohandover.search.targets import evaluations_to_target, target_cells
 from ergohandover.search.walks import WalkConfig, run_randomwalk
-from ergohandover.study.config import StepBudget, StudyConfig
+from ergohandover.study.config import StudyConfig
 from ergohandover.study.engines import Engine
-from ergohandover.study.learning_runs import RunJob, run_job, run_seed, run_table
-from ergohandover.study.learning_summary import comparisons, summary
-from ergohandover.study.parts import part
+from ergohandover.study.learning.config import StepBudget
+from ergohandover.study.learning.runs import RunJob, run_job, run_seed, run_table
+from ergohandover.study.learning.summary import comparisons, summary
+from ergohandover.study.registry import part
 
 ROOT = Path(__file__).resolve().parents[1]
 

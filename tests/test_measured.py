@@ -16,7 +16,7 @@ from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
 from ergohandover.robustness.posture_error import ErrorModel, monte_carlo
 from ergohandover.search import Budget, make, run
-from ergohandover.search.measured import MeasuredScores
+from ergohandover.study.personalise.measured import MeasuredScores
 from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
@@ -77,7 +77,7 @@ def test_bad_settings_are_refused():
 
 
 def test_the_recommendation_is_the_first_lowest_measured_score_within_the_budget():
-    from ergohandover.study.measured_answers import recommendation
+    from ergohandover.study.personalise.measured_answers import recommendation
 
     scores = [math.inf, 7.0, 5.0, 6.0, 5.0, 4.0]
     assert recommendation(scores, 2) == 1
@@ -89,14 +89,14 @@ def test_the_recommendation_is_the_first_lowest_measured_score_within_the_budget
 def measured_job(answers, searcher: str = "cmaes+prior", twin: str = "in-model",
                  evaluator: Evaluator = EVALUATOR):
     from ergohandover.search.prior import Prior
-    from ergohandover.study.measured_answers import MeasuredJob
+    from ergohandover.study.personalise.measured_answers import MeasuredJob
 
     return MeasuredJob("w1", twin, evaluator, GRID, "paper_postural", searcher, answers,
                        (3, 10, 30), (11, 12, 13), Prior((0.0, 1.1, 0.4), (0.05, 0.05, 0.05)))
 
 
 def test_measured_runs_report_the_true_regret_of_what_was_observed():
-    from ergohandover.study.measured_answers import (
+    from ergohandover.study.personalise.measured_answers import (
         Answers,
         measured_summary,
         run_measured_job,
@@ -133,7 +133,7 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
 def test_a_worker_whose_twin_differs_is_scored_by_that_twin():
     import dataclasses
 
-    from ergohandover.study.measured_answers import Answers, run_measured_job, truth_of
+    from ergohandover.study.personalise.measured_answers import Answers, run_measured_job, truth_of
 
     other = dataclasses.replace(EVALUATOR, task=dataclasses.replace(EVALUATOR.task, gaze="off"))
     job = measured_job(Answers("posture", 0.0), twin="gaze off", evaluator=other)
@@ -146,7 +146,7 @@ def test_a_worker_whose_twin_differs_is_scored_by_that_twin():
 
 
 def test_the_confirm_rule_measures_the_best_again_and_recommends_the_lowest_mean():
-    from ergohandover.study.measured_answers import confirmations, confirmed
+    from ergohandover.study.personalise.measured_answers import confirmations, confirmed
 
     cells = [10, 11, 12, 13, 14, 15, 16, 17, 18, 19]
     scores = [5.0, 3.0, math.inf, 4.0, 3.0, 6.0, 7.0, 2.0, 9.0, 9.0]
@@ -169,7 +169,7 @@ def test_the_confirm_rule_measures_the_best_again_and_recommends_the_lowest_mean
 
 
 def test_a_rater_gives_whole_scores_whose_reliability_is_the_icc():
-    from ergohandover.search.measured import RatedScores, rater_sd
+    from ergohandover.study.personalise.measured import RatedScores, rater_sd
 
     rng = np.random.default_rng(0)
     values = rng.integers(2, 9, 400).astype(float)
@@ -190,7 +190,7 @@ def test_a_rater_gives_whole_scores_whose_reliability_is_the_icc():
     with pytest.raises(ConfigError, match=r"icc = 0\.0 is outside"):
         rater_sd(values, 0.0)
     with pytest.raises(ConfigError, match=r"rater ICC = 1\.5 is outside"):
-        from ergohandover.study.measured_answers import Answers
+        from ergohandover.study.personalise.measured_answers import Answers
         Answers("rater", 1.5)
 
 

@@ -17,7 +17,7 @@ import pytest
 
 from ergohandover.capture import FORMATS
 from ergohandover.capture.placement import place
-from ergohandover.study.transfer import STEP
+from ergohandover.study.people.transfer import STEP
 from ergohandover.twin.angles import posture_columns
 from ergohandover.twin.evaluate import Evaluator, evaluate, joint_angles
 from ergohandover.twin.kinematics import KinematicModel

@@ -15,7 +15,8 @@ import pandas as pd
 import pytest
 
 from ergohandover.errors import ConfigError
-from ergohandover.study.beside_people import (
+from ergohandover.study.config import StudyConfig
+from ergohandover.study.people.beside_people import (
     ANGLES,
     measured_angles,
     measured_handovers,
@@ -23,7 +24,6 @@ from ergohandover.study.beside_people import (
     receiver_body,
     split,
 )
-from ergohandover.study.config import StudyConfig
 from ergohandover.twin.task import TaskSpec
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -30,7 +30,8 @@ from ergohandover.search import AskTellSearcher
 from ergohandover.search.answers import SCORE_RANGES, AnswerReader, Refused
 from ergohandover.search.oracles import Oracle
 from ergohandover.search.session import Session, run
-from ergohandover.study.config import PersonaliseConfig, PopulationConfig
+from ergohandover.study.personalise.config import PersonaliseConfig
+from ergohandover.study.population.config import PopulationConfig
 from ergohandover.twin.anthropometry import BodySpec
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -106,7 +106,7 @@ def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
 
 def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin():
     from ergohandover.study.config import StudyConfig
-    from ergohandover.study.measured_answers import answer_models
+    from ergohandover.study.personalise.measured_answers import answer_models
 
     part = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ()).personalise
     runs, summary = read("measured_runs.csv"), read("measured_summary.csv")

@@ -20,7 +20,7 @@ from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
 from ergohandover.search import AskTellSearcher, Budget, make, replay, run
 from ergohandover.search.prior import PopulationPrior, Prior, shipped_prior
-from ergohandover.study.personalise import (
+from ergohandover.study.personalise.sessions import (
     censored_at,
     leave_one_out_priors,
     run_seeds,
@@ -193,7 +193,7 @@ if __name__ == "__main__":
 def test_a_job_uses_the_values_its_parent_prepared(monkeypatch):
     """The parent computes each worker's objective once before the pool forks; a job then
     reads no landscape of its own."""
-    from ergohandover.study import personalise
+    from ergohandover.study.personalise import sessions as personalise
     from ergohandover.twin.evaluate import Evaluator
 
     landscape = bowl_landscape()

@@ -12,7 +12,7 @@ import pytest
 
 from ergohandover.landscape.cache import twin_code_version
 from ergohandover.study.config import StudyConfig
-from ergohandover.study.parts import PARTS
+from ergohandover.study.registry import PARTS
 from ergohandover.study.resume import is_done
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -55,7 +55,8 @@ def test_a_searcher_added_by_one_entry_runs_through_every_door(lowest_registered
 
 def test_every_door_offers_the_registry(capsys):
     from ergohandover.cli.personalise import registered_searchers
-    from ergohandover.study.config import LearningConfig, PersonaliseConfig
+    from ergohandover.study.learning.config import LearningConfig
+    from ergohandover.study.personalise.config import PersonaliseConfig
 
     fields = {f.name: f for f in dataclasses.fields(LearningConfig)}
     assert set(fields["agents"].metadata["choices"]) == set(SEARCHERS)

@@ -14,7 +14,7 @@ from test_readme import anchors, broken_links
 
 from ergohandover.ergonomics import score_postures
 from ergohandover.io.posture_csv import read_postures
-from ergohandover.study.parts import PARTS
+from ergohandover.study.registry import PARTS
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT_PATH = ROOT / "docs" / "report.md"

@@ -22,14 +22,14 @@ from ergohandover.robustness.posture_error import (
     perturbed,
 )
 from ergohandover.robustness.search import placement, postures_at, robust_optimum
-from ergohandover.study.config import RobustnessConfig
-from ergohandover.study.one_size_resampling import OneSizeResampler
-from ergohandover.study.population import one_size_cells, penalty_regression
-from ergohandover.study.robustness import (
+from ergohandover.study.population.one_size import one_size_cells, penalty_regression
+from ergohandover.study.population.resampling import OneSizeResampler
+from ergohandover.study.robustness.analysis import (
     difference,
     recommendations,
     without_optimism,
 )
+from ergohandover.study.robustness.config import RobustnessConfig
 from ergohandover.twin.evaluate import Evaluator, evaluate
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,7 +10,7 @@ from ergohandover.landscape import landscape_of
 from ergohandover.landscape.cache import landscape_key
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.stats import minimisers, optimum
-from ergohandover.study.sensitivity import OBJECTIVES, Variant, sensitivity_row, variants
+from ergohandover.study.sensitivity.variants import OBJECTIVES, Variant, sensitivity_row, variants
 from ergohandover.twin.evaluate import EvaluationError, Evaluator, evaluate_arrays, posture_solver
 from ergohandover.twin.solver import SolverSettings, SolverSettingsError
 from ergohandover.twin.task import Boundary, TaskSpec

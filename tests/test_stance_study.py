@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from ergohandover.study.config import StudyConfig
-from ergohandover.study.stance_comparison import headline, scored, under_posture_error
+from ergohandover.study.stance.comparison import headline, scored, under_posture_error
 
 CONFIG = StudyConfig()
 NAMED = pd.DataFrame({"worker": "p50-male", "location": ["optimised", "shortest distance",

@@ -10,7 +10,7 @@ import pytest
 
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.engines import Engine
-from ergohandover.study.parts import part
+from ergohandover.study.registry import part
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMING = ["elapsed_s", "steps_per_s"]  # wall-clock figures: the only columns that may differ

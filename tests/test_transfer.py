@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ergohandover.study.transfer import STEP, Transfer, TransferError, transfer
+from ergohandover.study.people.transfer import STEP, Transfer, TransferError, transfer
 
 FPS = 30.0
 CONTACT, RELEASE = 50, 75

@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from ergohandover.study.validation import CONDITIONS, MEASURES, validation_table
+from ergohandover.study.validation.published import CONDITIONS, MEASURES, validation_table
 from ergohandover.twin.anthropometry import BodySpec
 from ergohandover.twin.evaluate import evaluate
 from ergohandover.twin.task import TaskSpec

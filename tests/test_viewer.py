@@ -216,7 +216,7 @@ def test_the_viewer_opens_on_the_best_cells_with_one_label_on_the_chosen_locatio
 def test_the_landscape_can_be_coloured_by_the_score_expected_under_posture_error(viewer):
     from scipy import stats
 
-    from ergohandover.study.config import RobustnessConfig
+    from ergohandover.study.robustness.config import RobustnessConfig
     from ergohandover.viewer.app import EXPECTED, EXPECTED_SD_DEG
 
     assert RobustnessConfig().robust_sd == EXPECTED_SD_DEG  # the study's robust SD

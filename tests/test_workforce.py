@@ -10,7 +10,7 @@ import pytest
 
 from ergohandover.errors import ConfigError
 from ergohandover.search.statistics import wilson
-from ergohandover.study.population import (
+from ergohandover.study.population.one_size import (
     line_fit,
     one_size_cells,
     penalty_summary,

@@ -16,8 +16,8 @@ when loaded: point this only at a copy you trust.
 
 Definitions (one handover):
 
-- Transfer frame: ``ergohandover.study.transfer`` (the object moves with the receiver's hand and
-  no longer with the giver's, from the ZED hand points BODY_34 joints 8 and 15); a handover
+- Transfer frame: ``ergohandover.study.people.transfer`` (the object moves with the receiver's
+  hand and no longer with the giver's, from the ZED hand points BODY_34 joints 8 and 15); a handover
   without one is dropped with the reason.
 - Receiver frame at the transfer: origin on the floor below the middle of the ankles; forward
   horizontal, normal to the hips' left-right line, toward the receiver's front (the capture
@@ -52,7 +52,7 @@ import pandas as pd
 
 from ergohandover.capture import capture, capture_scores, keypoint_format
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
-from ergohandover.study.transfer import TransferError, transfer
+from ergohandover.study.people.transfer import TransferError, transfer
 
 ROOT = Path(__file__).resolve().parents[2]
 OUTPUT = ROOT / "src" / "ergohandover" / "study" / "measured_handovers.csv"

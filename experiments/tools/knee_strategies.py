@@ -18,7 +18,7 @@ import argparse
 
 import numpy as np
 
-from ergohandover.study.validation import GAP_M
+from ergohandover.study.validation.published import GAP_M
 from ergohandover.twin.anthropometry import PERCENTILES, BodySpec
 from ergohandover.twin.evaluate import Evaluator, posture_solver
 from ergohandover.twin.solver import STRATEGY_TIE

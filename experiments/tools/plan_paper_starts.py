@@ -17,8 +17,8 @@ import numpy as np
 
 from ergohandover.scene.planner import CarryPlanner
 from ergohandover.scene.world import WorkerPosture, World
-from ergohandover.study.baselines import PAPER_STARTS
-from ergohandover.study.parts.landscape import recorded_optimum
+from ergohandover.study.baselines.comparison import PAPER_STARTS
+from ergohandover.study.landscape.recorded import recorded_optimum
 from ergohandover.twin.evaluate import Evaluator, evaluate, joint_angles, posture_solver
 
 OPTIMUM = recorded_optimum(Path(__file__).resolve().parents[2] / "results")

@@ -19,11 +19,15 @@ import pandas as pd
 
 from ergohandover.search import pairwise
 from ergohandover.study.config import StudyConfig
-from ergohandover.study.measured_answers import IN_MODEL, Answers, MeasuredJob, run_measured_job
-from ergohandover.study.parts.population import workforce_of
-from ergohandover.study.parts.shared import grid_of
-from ergohandover.study.personalise import leave_one_out_priors, run_seeds
-from ergohandover.study.workforce import bodies
+from ergohandover.study.personalise.measured_answers import (
+    IN_MODEL,
+    Answers,
+    MeasuredJob,
+    run_measured_job,
+)
+from ergohandover.study.personalise.sessions import leave_one_out_priors, run_seeds
+from ergohandover.study.shared import grid_of
+from ergohandover.study.workforce import bodies, workforce_of
 from ergohandover.twin.evaluate import Evaluator
 
 NOISES = (0.1, 0.3, 1.0)

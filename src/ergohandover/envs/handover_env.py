@@ -86,7 +86,7 @@ class HandoverEnv(gym.Env):
     ``episode_end="paper"``: terminated when the score is at most ``target`` (4, the paper's
     optimum; the twin's own minimum on a grid is in its landscape's statistics, e.g.
     ``results/landscape/stats.csv``). ``episode_end="none"``: never terminated (the study's
-    default: :mod:`ergohandover.study.parts.learning` says why).
+    default: :mod:`ergohandover.study.learning.part` says why).
     Truncation is left to the ``TimeLimit`` of :func:`~ergohandover.envs.register`
     (:data:`EPISODE_STEPS`).
 

@@ -1,0 +1,3 @@
+"""Study question ``ablations``: the twin's whole-body solver against PyBullet's IK.
+
+Its entry in :mod:`..registry` declares what it needs, writes, answers and may take."""

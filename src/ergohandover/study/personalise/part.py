@@ -1,0 +1,223 @@
+"""Study part `personalise`: which method finds *this* worker's optimum in the fewest handovers?
+
+A handover location is personal, and on a site or in VR each evaluation is a real handover with
+a person. On the population study's first workers (each with the twin's landscape on the
+population's grid standing in for the person), every searcher — the population prior alone,
+Bayesian optimisation (Optuna's GP sampler, the infeasible region as a constraint), TPE,
+CMA-ES, particle-swarm optimisation, Soft Actor-Critic, tabular Q-learning, a random walk and
+random order; ``+prior``: warm-started by the worker's prior (a learner's episodes start at
+it) — gets paired, seeded runs
+until it evaluates a cell at the worker's own minimum of the objective or spends the largest
+budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
+within B evaluations). Then the same workers, and workers whose twin differs from the prior's,
+are answered as a site would answer (:mod:`..measured_answers`: measured postures, raters, or
+preferences) at equal budgets with no stop rule.
+
+Writes results/personalise/:
+  workers.csv   each worker: body, own optimum (score, cells at it, share of the grid), its
+                leave-one-out prior and how far the prior lies from the nearest optimum cell
+  runs.csv      one row per worker, searcher and run: evaluations to the optimum and to within
+                one point of it (NaN: not within the searcher's largest budget), best found
+  summary.csv   per searcher, target (optimum, within_1) and budget: workers, runs, share
+                of runs that reached the target (95 % interval: bootstrap over workers, at
+                least Wilson's), median evaluations to the optimum and to within one point
+  curves.csv    share of runs at the target within n evaluations, per searcher
+  measured_runs.csv     answers as a site gets them (measured_answers.py): per worker
+                        and twin (in model, or a sensitivity variant), searcher, answer model,
+                        recommendation rule, run and budget, the recommendation and its true
+                        regret
+  measured_summary.csv  per model (in, out), searcher, answer model, rule and budget: the
+                        share of runs whose recommendation is a true optimum and the mean true
+                        regret, with intervals over workers
+  manifest.json
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ...io.atomic import atomic_write_csv
+from ...landscape import Landscape
+from ...search.registry import SEARCHERS
+from ...twin.evaluate import Evaluator
+from ..config import StudyConfig
+from ..engines import Engine
+from ..resume import run_part
+from ..sensitivity.variants import variants
+from ..shared import grid_of, landscapes, run_jobs
+from ..workforce import bodies, workforce_of
+from .measured_answers import (
+    IN_MODEL,
+    MeasuredJob,
+    answer_models,
+    measured_summary,
+    run_measured_job,
+    truth_key,
+)
+from .sessions import (
+    PersonaliseJob,
+    leave_one_out_priors,
+    prepare_values,
+    run_personalise_job,
+    run_seeds,
+    success_curves,
+    summary,
+)
+
+
+def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
+                 objective: str) -> pd.DataFrame:
+    """workers.csv: each worker's body, own optimum and prior (each worker's objective computed
+    here once, for this process and the workers it forks: :func:`~..personalise.prepare_values`)."""
+    rows = []
+    for (_, worker), landscape in zip(workers.iterrows(), found, strict=True):
+        values = prepare_values(worker["worker"], objective, landscape)
+        lowest = float(values.min())
+        cells = np.flatnonzero(values == lowest)
+        points = landscape.grid.coordinates(cells)
+        prior = priors[worker["worker"]]
+        miss = np.linalg.norm(points - np.asarray(prior.location), axis=1).min()
+        rows.append({"worker": worker["worker"], "sex": worker["sex"],
+                     "stature_m": worker["stature_m"],
+                     "elbow_height_m": worker["elbow_height_m"], "optimum_score": lowest,
+                     "optimum_cells": len(cells),
+                     "optimum_share": len(cells) / landscape.grid.size,
+                     "within_1_cells": int((values <= lowest + 1).sum()),
+                     "prior_x": prior.location[0], "prior_y": prior.location[1],
+                     "prior_z": prior.location[2],
+                     "prior_to_optimum_m": round(float(miss), 6)})
+    return pd.DataFrame(rows)
+
+
+def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
+    part = config.personalise
+
+    def work(folder: Path) -> dict:
+        table = workforce_of(config.population)
+        population = pd.read_csv(results / "population" / "workers.csv")
+        task = config.task()
+        evaluators = [Evaluator(body, task) for body in bodies(table)]
+        grid = grid_of(evaluators[-1], config.population.boundary, config.population.step)
+        chosen = table[table["reference"] == 0].head(part.workers)
+        everyone = [(w, e) for w, e, r in zip(table["worker"], evaluators, table["reference"],
+                                              strict=True) if r == 0]
+        evaluators = evaluators[:len(chosen)]
+        print(f"  {len(chosen)} workers of the population on {grid.describe()}")
+        found = landscapes(engine, evaluators, grid)  # the population's: from the cache
+        priors = leave_one_out_priors(population[population["reference"] == 0], part.objective)
+        workers = worker_table(chosen, found, priors, part.objective)
+        atomic_write_csv(workers, folder / "workers.csv")
+        largest = {s: max(part.budgets_of(s)) for s in part.searchers}
+        # The costliest searchers first (by the last run's own times, where there was one), so
+        # that the pool's processes finish together.
+        took = earlier_seconds(results / "personalise")
+        searchers = sorted(part.searchers, key=lambda s: -took.get(s, 0.0))
+        jobs = [PersonaliseJob(w, e, grid, part.objective, s, largest[s],
+                               run_seeds(part.seed, w, part.runs), priors[w])
+                for s in searchers for w, e in zip(chosen["worker"], evaluators, strict=True)]
+        print(f"  {len(part.searchers)} searchers x {len(chosen)} workers x {part.runs} runs, "
+              f"up to {max(largest.values()):,} evaluations each")
+        started = time.perf_counter()
+        rows, seconds = [], {}
+        for job, (found_rows, spent) in zip(
+                jobs, run_jobs(engine, timed_job, jobs, "personalise"), strict=True):
+            rows += found_rows
+            seconds[job.searcher] = seconds.get(job.searcher, 0.0) + spent
+        order = {s: i for i, s in enumerate(part.searchers)}
+        worker_order = {w: i for i, w in enumerate(chosen["worker"])}
+        runs = pd.DataFrame(rows).sort_values(
+            ["searcher", "worker", "run"], kind="stable", ignore_index=True,
+            key=lambda c: c.map(order) if c.name == "searcher" else
+            c.map(worker_order) if c.name == "worker" else c)
+        budgets = {s: part.budgets_of(s) for s in part.searchers}
+        atomic_write_csv(runs, folder / "runs.csv")
+        atomic_write_csv(summary(runs, budgets, part.seed), folder / "summary.csv")
+        atomic_write_csv(success_curves(runs, largest), folder / "curves.csv")
+        measured = measured_tables(part, chosen, evaluators, grid, priors, engine, everyone)
+        for name, table in measured.items():
+            atomic_write_csv(table, folder / f"{name}.csv")
+        return {"runs": len(runs), "searcher_seconds": {k: round(v, 1)
+                                                        for k, v in seconds.items()},
+                "search_wall_s": round(time.perf_counter() - started, 1),
+                "measured_rows": len(measured.get("measured_runs", ()))}
+
+    return run_part("personalise", results / "personalise", config.part_inputs("personalise"),
+                    work, seeds={"runs": part.seed}, force=force, engine=engine)
+
+
+def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid, priors: dict,
+                    engine: Engine, everyone: list) -> dict[str, pd.DataFrame]:
+    """The runs with answers as a site gets them, in and out of model, and their summary (none
+    if the configuration asks for none). ``everyone``: (name, evaluator) of the population's
+    sampled workers, the candidates of a fitted twin (each worker's are the others)."""
+    models = answer_models(part.measured_sds, part.measured_iccs)
+    if not (part.measured_runs and models and part.measured_searchers):
+        return {}
+    twins = [(w, IN_MODEL, e) for w, e in zip(chosen["worker"], evaluators, strict=True)]
+    twins += out_of_model(part, chosen, evaluators, grid, engine)
+    # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
+    searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
+    if any(SEARCHERS[s].twins for s in part.measured_searchers):
+        # Every candidate's scores, computed here once for the pool's workers (the chosen
+        # workers' are, in worker_table).
+        others = [(n, e) for n, e in everyone if n not in set(chosen["worker"])]
+        for (name, _), landscape in zip(others, landscapes(engine, [e for _, e in others],
+                                                           grid), strict=True):
+            prepare_values(name, part.objective, landscape)
+    jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
+                        tuple(part.budgets_of(s, measured=True)),
+                        run_seeds(part.seed, w, part.measured_runs), priors[w],
+                        tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else ())
+            for s in searchers for answers in models for w, twin, e in twins]
+    print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
+          f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
+          f"{part.measured_runs} runs, up to {max(part.measured_budgets)} handovers each")
+    rows = [row for found in run_jobs(engine, run_measured_job, jobs, "answers with error")
+            for row in found]
+    order = {s: i for i, s in enumerate(part.measured_searchers)}
+    answer_order = {a.label: i for i, a in enumerate(models)}
+    twin_order = {(w, t): i for i, (w, t, _) in enumerate(twins)}
+    runs = pd.DataFrame(rows)
+    runs["_twin"] = [twin_order[k] for k in zip(runs["worker"], runs["twin"], strict=True)]
+    runs = runs.sort_values(
+        ["searcher", "answers", "_twin", "run", "budget"], kind="stable", ignore_index=True,
+        key=lambda c: c.map(order) if c.name == "searcher" else
+        c.map(answer_order) if c.name == "answers" else c).drop(columns="_twin")
+    seed = int(np.random.SeedSequence([part.seed, 1]).generate_state(1)[0])
+    return {"measured_runs": runs, "measured_summary": measured_summary(runs, seed)}
+
+
+def out_of_model(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
+                 engine: Engine) -> list[tuple[str, str, Evaluator]]:
+    """The first workers with each sensitivity variant's twin, their landscapes swept (or read
+    from the cache) and their scores kept for the pool's workers."""
+    named = {v.name: v for v in variants(evaluators[0])}
+    twins = [(w, name, named[name].evaluator(e)) for name in part.measured_variants
+             for w, e in zip(chosen["worker"][:part.measured_variant_workers],
+                             evaluators, strict=False)]
+    if twins:
+        print(f"  out of model: {len(twins)} twins ({', '.join(part.measured_variants)})")
+        for (w, name, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
+                                           strict=True):
+            prepare_values(truth_key(w, name), part.objective, landscape)
+    return twins
+
+
+def earlier_seconds(folder: Path) -> dict[str, float]:
+    """Each searcher's time in the part's last run (its manifest's), or nothing."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+        return dict(manifest["searcher_seconds"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
+def timed_job(job: PersonaliseJob) -> tuple[list[dict], float]:
+    """A job's rows and its own time on one core [s] (the manifest's cost per searcher)."""
+    start = time.perf_counter()
+    return run_personalise_job(job), time.perf_counter() - start
