@@ -174,6 +174,7 @@ def test_results_are_written_with_the_most_symmetric_best_location_first(tmp_pat
     assert manifest["summary"]["best_score"] == 5 and manifest["seeds"] == {"run": 0}
 
 
+@pytest.mark.slow
 def test_a_short_dqn_run_keeps_its_caps_and_its_best():
     from ergohandover.search.dqn import DQNConfig, run_dqn
 

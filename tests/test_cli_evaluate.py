@@ -45,6 +45,7 @@ def evaluate_stdout(*flags: str) -> pd.DataFrame:
     return pd.read_csv(io.StringIO(result.stdout))
 
 
+@pytest.mark.slow
 def test_stdout_is_pure_csv_and_body_flags_change_the_posture():
     default = evaluate_stdout()
     small = evaluate_stdout("--percentile", "p5-female")
@@ -58,12 +59,14 @@ def test_stdout_is_pure_csv_and_body_flags_change_the_posture():
         < tall["trunk_flexion"].iloc[0]
 
 
+@pytest.mark.slow
 def test_the_gaze_flag_changes_the_neck_only_where_the_box_is_out_of_view():
     on, off = evaluate_stdout(), evaluate_stdout("--gaze", "off")
     assert not np.allclose(on["neck_flexion"], off["neck_flexion"], atol=0.5)
     assert (off["neck_flexion"].abs() <= on["neck_flexion"].abs() + 0.5).all()
 
 
+@pytest.mark.slow
 def test_the_pybullet_solver_flag_changes_the_solver():
     ours, theirs = evaluate_stdout(), evaluate_stdout("--solver", "pybullet")
     assert not np.allclose(ours["neck_flexion"], theirs["neck_flexion"], atol=0.5)

@@ -395,6 +395,7 @@ def test_score_and_evaluate_create_their_output_folders(tmp_path):
     assert len(pd.read_csv(out)) == 1 and len(list(pictures.glob("*.png"))) == 1
 
 
+@pytest.mark.slow
 def test_sweep_stats_train_and_baseline_create_their_output_folders(tmp_path, capsys):
     grid = ["--boundary", SMALL, "--step", "0.05", "--workers", "1"]
     sweep = tmp_path / "s" / "t" / "sweep"

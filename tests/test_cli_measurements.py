@@ -20,6 +20,7 @@ def points(tmp_path):
     return path
 
 
+@pytest.mark.slow
 def test_an_elbow_height_sizes_the_worker_that_evaluate_solves(points, tmp_path):
     out = tmp_path / "low_elbow.csv"
     assert main(["evaluate", "--points", str(points), "--output", str(out),
@@ -34,6 +35,7 @@ def test_an_elbow_height_sizes_the_worker_that_evaluate_solves(points, tmp_path)
         expected["right_elbow_flexion"].to_numpy(), abs=1e-6)
 
 
+@pytest.mark.slow
 def test_a_body_given_by_stature_and_sex_is_the_body_models_and_is_said(points, tmp_path):
     """A 1.62 m woman weighs what the survey's 1.62 m women weigh, not the default 50th man's
     84.3 kg; a named percentile keeps its own size but for what is given; each run says the
@@ -59,6 +61,7 @@ def test_a_body_given_by_stature_and_sex_is_the_body_models_and_is_said(points, 
         f"worker: female, {small.stature_m:.3f} m, 60.0 kg")
 
 
+@pytest.mark.slow
 def test_a_survey_row_gives_the_worker_and_its_sex(points, tmp_path):
     row = tmp_path / "person.csv"
     row.write_text("stature,weightkg,acromialheight,wristheight,Gender\n1652,612,1351,805,Female\n")

@@ -187,6 +187,7 @@ def test_bad_input_is_one_line_naming_the_flag(tmp_path, capsys, one_posture, ca
     assert sorted(tmp_path.rglob("*")) == before, "a bad input left a file or folder behind"
 
 
+@pytest.mark.slow
 def test_baseline_reports_the_robust_optimum_beside_the_optimised_location(tmp_path, capsys):
     out = tmp_path / "run" / "baselines.csv"
     assert main(["baseline", "--start", "0.028,1.122,1.354", "--step", "0.04",

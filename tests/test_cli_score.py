@@ -37,6 +37,7 @@ def test_scores_the_example_and_keeps_every_input_column(tmp_path):
     assert not list(tmp_path.glob(".*.tmp")), "temporary file left behind"
 
 
+@pytest.mark.slow
 def test_stdin_to_stdout_through_the_console_entry():
     # The one spawned process of the file: the module entry as a user's shell runs it.
     result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "score", "--input", "-",

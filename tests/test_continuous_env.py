@@ -74,6 +74,7 @@ def test_bad_arguments_are_refused_in_one_line():
         env.step(np.array([0.0, np.nan, 0.0]))
 
 
+@pytest.mark.slow
 def test_the_sac_agent_gets_the_continuous_env():
     scores = LandscapeScores(bowl_landscape())
     env = make("sac", scores.grid, 0).env(scores)
@@ -83,6 +84,7 @@ def test_the_sac_agent_gets_the_continuous_env():
                 Budget(steps=10), 0)
 
 
+@pytest.mark.slow
 def test_a_short_sac_run_keeps_its_caps_and_is_deterministic():
     config = SACConfig(learning_starts=20)
     a, b = (run_sac(bowl_continuous(episode_end="none"), Budget(steps=60), 1, config)
@@ -92,6 +94,7 @@ def test_a_short_sac_run_keeps_its_caps_and_is_deterministic():
                                   b.trace.drop(columns="time_s"))
 
 
+@pytest.mark.slow
 def test_sac_runs_through_the_protocol_and_train(tmp_path):
     scores = LandscapeScores(bowl_landscape())
     result = run(make("sac", scores.grid, 0), scores, Budget(steps=50))

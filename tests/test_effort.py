@@ -75,6 +75,7 @@ def test_the_compiled_kernel_agrees_with_the_numpy_reference_where_the_effort_ho
     np.testing.assert_allclose(a.q, b.q, atol=1e-5)
 
 
+@pytest.mark.slow
 def test_no_solved_posture_stretches_the_hamstrings_more_than_a_few_degrees():
     solver = PostureSolver()
     model = solver.model
@@ -88,6 +89,7 @@ def test_no_solved_posture_stretches_the_hamstrings_more_than_a_few_degrees():
     assert solver.lattice.axes[1][0] < 0.1  # the lattice reaches down to the floor
 
 
+@pytest.mark.slow
 def test_each_lattice_node_keeps_the_lowest_cost_strategy():
     both = PostureSolver(settings=SolverSettings(strategies=("stoop", "squat")))
     nodes = [PostureSolver(settings=SolverSettings(strategies=(name,)))
@@ -120,6 +122,7 @@ POSTURAL_INDEX = (0.2, 0.8)
 
 
 @pytest.mark.parametrize("percentile", ["p5-female", "p50-female", "p50-male", "p95-male"])
+@pytest.mark.slow
 def test_at_and_below_knee_height_every_worker_combines_knee_and_hip_flexion(percentile):
     body = BodySpec.from_percentile(percentile)
     evaluator = Evaluator(body)
@@ -143,6 +146,7 @@ def test_at_and_below_knee_height_every_worker_combines_knee_and_hip_flexion(per
     assert ((com[:, 0] > x0) & (com[:, 0] < x1) & (com[:, 1] > y0) & (com[:, 1] < y1)).all()
 
 
+@pytest.mark.slow
 def test_a_low_box_bends_knees_and_hips_together_and_a_box_at_elbow_height_does_not():
     solver = PostureSolver()
     model = solver.model

@@ -50,6 +50,7 @@ def test_a_box_above_the_head_puts_the_hands_above_the_neck():
     assert one(0.0, ELBOW_HEIGHT, 0.35)["hands_above_neck"] == 0
 
 
+@pytest.mark.slow
 def test_gaze_on_bends_the_neck_toward_a_low_box_and_gaze_off_does_not():
     # A box low and close, 0.95 m high (the paper-code grid's score-4 region without gaze):
     # keeping it within the eyes' 25-degree cone flexes the neck past the paper's 20 degrees.
@@ -116,6 +117,7 @@ def test_every_feasible_posture_keeps_the_centre_of_mass_over_the_feet():
     ((0.0, 1.00, 0.15), {}, "box_collision"),  # the box inside the chest
     ((0.0, 0.80, 0.60), {"settings": SolverSettings(balance=0.0)}, "unbalanced"),
 ])
+@pytest.mark.slow
 def test_each_infeasibility_has_its_reason_and_no_scores(point, kwargs, reason):
     row = one(*point, **kwargs)
     assert row["feasible"] == 0

@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from ergohandover.landscape.grid import Grid
 from ergohandover.landscape.store import landscape_of
@@ -23,6 +24,7 @@ PELVIS = Evaluator(trunk_reference="pelvis")
 TRUNK = ("trunk_flexion", "reba", "paper_postural")
 
 
+@pytest.mark.slow
 def test_every_entry_point_scores_the_trunk_from_the_pelvis_when_asked(tmp_path):
     grid = Grid(LOW, 0.05)
     points = grid.points()

@@ -296,6 +296,7 @@ def every_text(path: Path) -> list[str]:
 
 
 @pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+@pytest.mark.slow
 def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, rendered):
     folder = rendered(script)
     assert {p.name for p in folder.glob("*.png")} == set(SCRIPTS[script])
@@ -312,6 +313,7 @@ def test_every_figure_states_n_and_draws_integer_ticks_on_integer_axes(script, r
 
 
 @pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+@pytest.mark.slow
 def test_no_figure_names_anything_by_the_results_keys(script, rendered):
     # "paper-reward", "lexicographic", "reba_ab", "p5-female": a reader has the figure, not
     # targets.csv; every title, label, tick, legend and caption is in words.
@@ -322,6 +324,7 @@ def test_no_figure_names_anything_by_the_results_keys(script, rendered):
 
 
 @pytest.mark.parametrize("script", slow_learning(SCRIPTS))
+@pytest.mark.slow
 def test_no_two_panels_of_a_figure_draw_the_same_data(script, rendered):
     for name in SCRIPTS[script]:
         _, comment = metadata(rendered(script) / name)
@@ -332,6 +335,7 @@ def test_no_two_panels_of_a_figure_draw_the_same_data(script, rendered):
         assert not repeated, f"{name}: panels with the same data: {titles}"
 
 
+@pytest.mark.slow
 def test_participants_are_ordered_by_stature_smallest_first(rendered):
     table = pd.read_csv(RESULTS / "participants" / "participants.csv")
     statures = table.groupby("worker")["stature_m"].first().sort_values()
@@ -346,6 +350,7 @@ def test_participants_are_ordered_by_stature_smallest_first(rendered):
             assert sex in tick and percentile.replace("-", " ") in tick, tick
 
 
+@pytest.mark.slow
 def test_population_draws_one_panel_per_one_size_location(rendered):
     one_size = pd.read_csv(RESULTS / "population" / "one_size.csv")
     places = one_size[one_size["objective"] == "paper_postural"][["x", "y", "z"]]
@@ -354,6 +359,7 @@ def test_population_draws_one_panel_per_one_size_location(rendered):
         assert len(comment["panels"]) == len(places.drop_duplicates()), name
 
 
+@pytest.mark.slow
 def test_learning_curves_that_end_early_say_where(rendered):
     curves = pd.read_csv(RESULTS / "learning" / "curves.csv")
     ends = curves.groupby("agent")["evaluations"].max()
@@ -390,6 +396,7 @@ def test_learning_panels_name_their_target_in_words(rendered):
         assert any("with the best tie-breaks" in t for t in titles)
 
 
+@pytest.mark.slow
 def test_personalise_curves_that_stop_at_a_smaller_budget_say_so(rendered):
     curves = pd.read_csv(RESULTS / "personalise" / "curves.csv")
     ends = curves.groupby("searcher")["evaluations"].max()
@@ -410,6 +417,7 @@ def test_personalise_curves_that_stop_at_a_smaller_budget_say_so(rendered):
     assert len(titles) == len(set(titles))
 
 
+@pytest.mark.slow
 def test_score_distribution_explains_reba_table_a_plus_b(rendered):
     scores = set(pd.read_csv(RESULTS / "landscape" / "distribution.csv")["score"])
     description, comment = metadata(rendered("fig_score_distribution") /
@@ -422,6 +430,7 @@ def test_score_distribution_explains_reba_table_a_plus_b(rendered):
         assert common.REBA_AB_NOTE in " ".join(description.split())
 
 
+@pytest.mark.slow
 def test_reachability_is_one_picture_that_states_how_much_is_held(rendered):
     summary = pd.read_csv(RESULTS / "baselines" / "reachability_summary.csv")
     description, comment = metadata(rendered("fig_baselines") / "robot_reachability.png")
@@ -435,6 +444,7 @@ def test_reachability_is_one_picture_that_states_how_much_is_held(rendered):
         assert f"{int(r.held):,} of {int(r.locations):,}" in description, r.boundary
 
 
+@pytest.mark.slow
 def test_renders_state_our_score_beside_the_papers_in_words(rendered):
     table = pd.read_csv(RESULTS / "baselines" / "baselines.csv")
     texts = every_text(rendered("fig_baselines") / "baselines_renders.png")

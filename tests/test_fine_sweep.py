@@ -48,6 +48,7 @@ def test_a_mixed_cell_is_trusted_only_where_it_is_smooth():
     assert FineLattice.unsure(jumped, codes, found, 0.01)[0]
 
 
+@pytest.mark.slow
 def test_the_fine_warm_start_depends_on_the_location_alone():
     # Nodes are solved on first use: a location's row must not depend on which other
     # locations came first, in this process or another.
@@ -61,6 +62,7 @@ def test_the_fine_warm_start_depends_on_the_location_alone():
         pd.testing.assert_frame_equal(alone, together.iloc[i:i + 1].reset_index(drop=True))
 
 
+@pytest.mark.slow
 def test_the_fine_lattice_nodes_are_todays_solves():
     # At a node the interpolation puts (all but rounding of) its whole weight on that node, and
     # the node was solved exactly as today's warm start solves a location.
@@ -71,6 +73,7 @@ def test_the_fine_lattice_nodes_are_todays_solves():
     assert found["reba"].tolist() == today["reba"].tolist()
 
 
+@pytest.mark.slow
 def test_unsure_locations_get_todays_rows_and_the_rest_their_cells_interpolation():
     rng = np.random.default_rng(3)
     points = np.column_stack([rng.uniform(-0.2, 0.2, 400), rng.uniform(0.7, 1.3, 400),
@@ -97,6 +100,7 @@ def test_the_fine_warm_start_needs_the_whole_body_solver():
         Evaluator(solver="pybullet", settings=SolverSettings(warm_start="fine"))
 
 
+@pytest.mark.slow
 def test_sweep_takes_the_fine_warm_start_into_a_landscape_of_its_own(tmp_path, monkeypatch,
                                                                      capsys):
     found = sweep_each(tmp_path, monkeypatch, capsys, "-0.1,0.1,0.9,1.2,0.35,0.55", "0.02",

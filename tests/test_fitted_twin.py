@@ -149,6 +149,7 @@ def test_the_command_refuses_the_fitted_twin_without_postures_in_the_answers():
     assert "--searcher fitted-twin needs the worker's posture in every answer" in done.stderr
 
 
+@pytest.mark.slow
 def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
     from cli_run import run_cli
 

@@ -52,6 +52,7 @@ def test_gui_without_a_display_stops_before_any_work(no_display, tmp_path, monke
     assert everything_under(tmp_path, landscape_cache) == before, "--gui left a file behind"
 
 
+@pytest.mark.slow
 def test_the_installed_command_says_it_in_one_line(tmp_path):
     points = tmp_path / "points.csv"
     points.write_text("x,y,z\n0,1.1,0.4\n")

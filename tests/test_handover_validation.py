@@ -53,6 +53,7 @@ def test_the_receiver_twin_is_sized_like_the_participants():
     assert 0.60 < twin.body.elbow_height_m / twin.body.stature_m < 0.63
 
 
+@pytest.mark.slow
 def test_the_table_sets_the_twins_angles_and_scores_beside_the_receivers():
     config = StudyConfig()
     twin = receiver_twin(config.task())

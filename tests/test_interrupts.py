@@ -127,6 +127,7 @@ def _sleep_then(job: float) -> float:
     return job
 
 
+@pytest.mark.slow
 def test_clean_stop_turns_sigterm_into_exit_143_and_terminates_the_pool(tmp_path):
     started = tmp_path / "started"
     script = f"""

@@ -239,6 +239,7 @@ def test_statistics_find_the_minimum_and_the_most_symmetric_minimiser(cache):
     assert most_symmetric(points) == 2
 
 
+@pytest.mark.slow
 def test_sweep_and_stats_commands(cache, tmp_path, capsys):
     out = tmp_path / "stats"
     args = ["sweep", "--boundary", "-0.1,0.1,1.0,1.2,0.35,0.5", "--step", "0.05", "--output",
@@ -266,6 +267,7 @@ def test_sweep_and_stats_commands(cache, tmp_path, capsys):
     (["--step", "0"], "--step 0: must be > 0 m"),
     (["--boundary", "elsewhere"], "--boundary elsewhere: not body, paper-code or six numbers"),
 ])
+@pytest.mark.slow
 def test_bad_sweep_arguments_exit_2(tmp_path, args, message):
     result = subprocess.run([sys.executable, "-m", "ergohandover.cli", "sweep", "--output",
                              str(tmp_path / "out"), *args], capture_output=True, text=True)
@@ -274,6 +276,7 @@ def test_bad_sweep_arguments_exit_2(tmp_path, args, message):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_stats_of_a_corrupted_file_exit_2(tmp_path):
     bad = tmp_path / "bad.npz"
     bad.write_bytes(b"not a landscape")

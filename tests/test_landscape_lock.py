@@ -53,6 +53,7 @@ def wait_for(path, text: str, proc: subprocess.Popen, seconds: float = 60) -> No
         time.sleep(0.05)
 
 
+@pytest.mark.slow
 def test_two_sweep_commands_at_once_both_succeed_and_one_computes(cache, tmp_path, monkeypatch):
     grid = Grid(SMALL, 0.01)  # a few seconds with the warm-start lattice: the two overlap
     env = {**os.environ, "ERGOHANDOVER_CACHE": str(cache)}
@@ -100,6 +101,7 @@ def test_a_waiting_process_reads_what_the_lock_holder_swept(cache, tmp_path, mon
     assert stderr.read_text().count(WAITING) == 1
 
 
+@pytest.mark.slow
 def test_a_waiting_process_sweeps_what_a_dead_holder_left(cache, tmp_path):
     grid = Grid(SMALL, 0.05)
     two = [Evaluator(), Evaluator(BodySpec.from_percentile("p5-female"))]

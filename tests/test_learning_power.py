@@ -193,6 +193,7 @@ def synthetic_runs() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+@pytest.mark.slow
 def test_the_comparisons_correct_over_the_whole_family_and_give_verdicts():
     table = comparisons(synthetic_runs(), ("qlearning",), 0.1, 0.05)
     assert len(table) == 4 and (table["n"] == 100).all()

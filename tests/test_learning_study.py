@@ -217,6 +217,7 @@ QUICK = ROOT / "experiments" / "configs" / "quick.json"
 
 
 @pytest.mark.smoke
+@pytest.mark.slow
 def test_the_quick_learning_part_runs_paired_and_reads_every_budget_from_one_run(tmp_path):
     config = StudyConfig.load(QUICK, (
         'learning.targets=[{"name": "paper"}, {"name": "paper-reward", "goal": "reward"}]',

@@ -48,6 +48,7 @@ def test_each_handover_is_a_new_measurement_and_a_seed_fixes_them():
     assert [other.score(cell) for _ in range(40)] != reads  # another seed, other errors
 
 
+@pytest.mark.slow
 def test_the_answers_follow_the_robustness_parts_distribution():
     cell = next(c for c in range(GRID.size) if measured(0.0).posture(c) is not None)
     source = measured(5.0, seed=1)
@@ -95,6 +96,7 @@ def measured_job(answers, searcher: str = "cmaes+prior", twin: str = "in-model",
                        (3, 10, 30), (11, 12, 13), Prior((0.0, 1.1, 0.4), (0.05, 0.05, 0.05)))
 
 
+@pytest.mark.slow
 def test_measured_runs_report_the_true_regret_of_what_was_observed():
     from ergohandover.study.personalise.measured_answers import (
         Answers,
@@ -130,6 +132,7 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
         assert row.regret_ci_low <= row.mean_regret <= row.regret_ci_high
 
 
+@pytest.mark.slow
 def test_a_worker_whose_twin_differs_is_scored_by_that_twin():
     import dataclasses
 

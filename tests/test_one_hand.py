@@ -38,6 +38,7 @@ def test_the_taking_hand_reaches_the_object_and_the_other_hangs_free(right):
     assert (free > 0.15).all()
 
 
+@pytest.mark.slow
 def test_left_is_the_mirror_of_right(right):
     mirrored = POINTS * np.array([-1.0, 1.0, 1.0])
     left = evaluate(mirrored, Evaluator(task=TaskSpec.holding("bottle", hands="left")))
@@ -48,6 +49,7 @@ def test_left_is_the_mirror_of_right(right):
     assert np.allclose(left["trunk_side_bend"], -right["trunk_side_bend"], atol=0.05)
 
 
+@pytest.mark.slow
 def test_the_compiled_and_the_numpy_solver_agree_one_handed():
     task = TaskSpec.holding("bottle", hands="right", box_mass_kg=3.0)
     compiled, reference = PostureSolver(task=task), PostureSolver(task=task, backend="numpy")

@@ -117,6 +117,7 @@ def test_an_interrupted_session_resumes_with_the_proposals_it_would_have_made(
     assert manifest["config"]["searcher"] == "random-order" and manifest["seeds"] == {"searcher": 0}
 
 
+@pytest.mark.slow
 def test_the_acceptance_session_through_the_console_script(tmp_path):
     """``printf '…' | ergohandover personalise --oracle ask …``: a bad answer, standard input
     ending (the interruption), the same command again, a recommendation."""
@@ -142,6 +143,7 @@ def test_the_acceptance_session_through_the_console_script(tmp_path):
 
 
 @pytest.mark.parametrize(("signum", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+@pytest.mark.slow
 def test_ctrl_c_or_kill_while_asking_loses_no_answer(tmp_path, signum, code):
     out = tmp_path / "run"
     argv = [sys.executable, "-m", "ergohandover.cli", "personalise", "--oracle", "ask",
@@ -230,6 +232,7 @@ def test_answers_in_a_file_are_matched_to_their_trials(tmp_path, capsys):
     assert not (tmp_path / "f" / command.PROPOSAL).exists()
 
 
+@pytest.mark.slow
 def test_the_file_oracle_waits_for_the_line_of_the_proposed_trial(tmp_path):
     answers, out = tmp_path / "answers.csv", tmp_path / "f"
     proposal = out / command.PROPOSAL
@@ -461,6 +464,7 @@ def test_the_default_searcher_is_registered():
     assert command.DEFAULT_SEARCHER in command.registered_searchers()
 
 
+@pytest.mark.slow
 def test_the_documented_session_is_what_the_command_prints(tmp_path):
     """docs/personalise.md's example session, rerun: the same proposals, refusals, pause,
     resume and recommendation, line for line."""

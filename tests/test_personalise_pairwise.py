@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import pandas as pd
+import pytest
 from cli_run import wait_for
 
 from ergohandover.cli import main
@@ -70,6 +71,7 @@ def preferred_cell(saved: list[dict], told: list[float]) -> int:
     return saved[preferred(grid, cells, told)]["trial"]
 
 
+@pytest.mark.slow
 def test_a_pairwise_session_stopped_by_ctrl_c_resumes_with_the_same_proposals(tmp_path):
     argv = [sys.executable, "-m", "ergohandover.cli", "personalise", "--oracle", "ask",
             "--answers", "pairwise", *WORKER, "--trials", "4"]

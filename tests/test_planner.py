@@ -61,6 +61,7 @@ def test_the_path_file_replays_in_plain_pybullet_without_collision_or_jumps(deto
     assert times[0] == 0.0 and np.all(np.diff(times) > 0)
 
 
+@pytest.mark.slow
 def test_a_start_out_of_reach_is_a_reason_not_a_path():
     plan = next(plan_carries([CarryJob(np.array([0.0, 3.0, 0.6]), SHORT.location)]))
     assert not plan.ok and plan.waypoints == []

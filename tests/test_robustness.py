@@ -280,6 +280,7 @@ STRICT = ScoringSettings(abduction_from_deg=0.0, twist_from_deg=0.0, side_bend_f
 """Scoring settings that score the upright posture differently from the defaults."""
 
 
+@pytest.mark.slow
 def test_scoring_settings_reach_every_scorer_under_error(small_landscape, monkeypatch):
     posture = upright(left_upper_arm_abduction=3.0, trunk_twist=2.0, trunk_side_bend=2.0)
     strict, default = score_postures(posture, STRICT), score_postures(posture)

@@ -4,6 +4,7 @@ transcription, arms are symmetric, batches do not interact, scores stay in their
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import reference_scorer
 from conftest import neutral_columns
 from hypothesis import given, settings
@@ -47,6 +48,7 @@ def as_posture(rows: list[dict]) -> Posture:
 
 @settings(max_examples=300, deadline=None)
 @given(rows=st.lists(POSTURE_ROW, min_size=1, max_size=8), s=SETTINGS)
+@pytest.mark.slow
 def test_vectorised_equals_the_independent_scalar_transcription(rows, s):
     scores = score_postures(as_posture(rows), s)
     for i, row in enumerate(rows):

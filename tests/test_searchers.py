@@ -55,6 +55,7 @@ def test_every_searcher_is_registered():
 
 
 @pytest.mark.parametrize("name", NAMES)
+@pytest.mark.slow
 def test_proposals_are_distinct_cells_inside_the_grid(name):
     record = search(name)
     assert all(0 <= c < GRID.size for c in record.cells)
@@ -64,12 +65,14 @@ def test_proposals_are_distinct_cells_inside_the_grid(name):
 
 
 @pytest.mark.parametrize("name", NAMES)
+@pytest.mark.slow
 def test_a_seed_fixes_the_proposals(name):
     assert search(name, seed=4).cells == search(name, seed=4).cells
     assert search(name, seed=4).cells != search(name, seed=5).cells
 
 
 @pytest.mark.parametrize("name", NAMES)
+@pytest.mark.slow
 def test_replaying_a_history_reproduces_the_next_proposal(name):
     first = searcher(name, seed=2)
     record = run(first, ArrayScores(GRID, VALUES), Budget(evaluations=20))
@@ -111,6 +114,7 @@ def evaluations_to_minimum(name: str, seed: int, budget: int) -> float:
 
 
 @pytest.mark.parametrize("name", OPTIMISERS)
+@pytest.mark.slow
 def test_optimisers_find_the_bowls_minimum_far_sooner_than_random(name):
     seeds = range(5)
     random = [evaluations_to_minimum("random-order", s, GRID.size) for s in seeds]
@@ -121,6 +125,7 @@ def test_optimisers_find_the_bowls_minimum_far_sooner_than_random(name):
 
 
 @pytest.mark.parametrize("name", WARM)
+@pytest.mark.slow
 def test_infeasible_answers_are_handled(name):
     # Half the grid infeasible and the prior's cell in it, so the first answer is infeasible
     # (the Optuna searchers have no objective value for it until a feasible answer comes).
@@ -131,6 +136,7 @@ def test_infeasible_answers_are_handled(name):
     assert math.isfinite(min(record.scores))  # it left the infeasible half
 
 
+@pytest.mark.slow
 def test_bo_learns_where_the_infeasible_region_is():
     values = bowl_values(lambda i, j, k: i >= 8)  # the minimum's cell (9, 5, 7) is infeasible
     record = search("bo", seed=0, budget=40, values=values)
@@ -138,6 +144,7 @@ def test_bo_learns_where_the_infeasible_region_is():
     assert infeasible <= 10  # the feasibility model steers it away (about half at random)
 
 
+@pytest.mark.slow
 def test_bo_proposes_what_optunas_own_path_proposes(monkeypatch):
     # GPSearcher skips the cost of Optuna's torch device mode; the proposals must not change.
     from ergohandover.search.optuna_searchers import GPSearcher, OptunaSearcher

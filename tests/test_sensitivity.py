@@ -41,6 +41,7 @@ def test_a_variant_changes_only_what_it_names():
     assert narrow.task.handle_span >= narrow.task.box_width
 
 
+@pytest.mark.slow
 def test_joint_preference_and_range_of_motion_settings_reach_the_solver():
     base = posture_solver(Evaluator())
     legs = posture_solver(Evaluator(settings=SolverSettings(
@@ -66,6 +67,7 @@ def test_bad_solver_settings_are_one_line_errors(kwargs, message):
         posture_solver(Evaluator(settings=SolverSettings(**kwargs)))
 
 
+@pytest.mark.slow
 def test_the_trunk_relative_to_the_pelvis_is_smaller_when_the_hips_flex():
     low = np.array([[0.0, 0.55, 0.40]])  # a low box: the pelvis tilts forward with the hips
     columns = ("trunk_flexion", "neck_flexion")
@@ -78,6 +80,7 @@ def test_the_trunk_relative_to_the_pelvis_is_smaller_when_the_hips_flex():
         Evaluator(trunk_reference="hips")
 
 
+@pytest.mark.slow
 def test_a_row_reports_the_landscapes_minima_optimum_and_the_conclusion():
     grid = Grid(SMALL, 0.05)
     base = Evaluator()

@@ -25,6 +25,7 @@ def points():
     return Boundary.paper_code().sample(300, np.random.default_rng(11))
 
 
+@pytest.mark.slow
 def test_the_lattices_agree(solvers):
     fast, reference = solvers
     model = fast.model
@@ -55,6 +56,7 @@ def test_the_lattices_agree(solvers):
     assert (cost_gap[apart] < 10 * STRATEGY_TIE).all()
 
 
+@pytest.mark.slow
 def test_the_backends_agree_from_the_same_start(solvers, points):
     fast, reference = solvers
     start = fast.lattice.start(points)
@@ -74,6 +76,7 @@ def test_the_backends_agree_from_the_same_start(solvers, points):
     assert (feasible_a == feasible_b).mean() >= 0.99
 
 
+@pytest.mark.slow
 def test_the_backends_agree_end_to_end(solvers, points):
     fast, reference = solvers
     a, b = fast.solve(points), reference.solve(points)  # each from its own lattice
@@ -82,6 +85,7 @@ def test_the_backends_agree_end_to_end(solvers, points):
     assert ((a.hand_error <= 0.01) == (b.hand_error <= 0.01)).mean() >= 0.99
 
 
+@pytest.mark.slow
 def test_the_fast_path_is_order_and_batch_independent_bit_for_bit(solvers, points):
     fast, _ = solvers
     whole = fast.solve(points)

@@ -57,6 +57,7 @@ def test_the_cheapest_feasible_candidate_is_taken_and_ties_keep_the_shorter_step
     assert chosen_step(cost, feasible).tolist() == [2, 0, 1, 0]
 
 
+@pytest.mark.slow
 def test_a_far_box_taken_with_a_step_scores_no_worse_and_the_feet_stay_within_a_step():
     # The paper-code grid's far edge in front of the body (full reach, 0.60 m), at three heights.
     far = np.array([[0.0, 0.95, 0.60], [0.0, 1.10, 0.60], [0.0, 1.25, 0.60]])
@@ -128,6 +129,7 @@ def sweep_each(tmp_path, monkeypatch, capsys, boundary: str, step: str, flag: st
     return found
 
 
+@pytest.mark.slow
 def test_sweep_keeps_the_stepping_landscape_apart_and_it_takes_every_planted_location(
         tmp_path, monkeypatch, capsys):
     found = sweep_each(tmp_path, monkeypatch, capsys, "-0.1,0.1,0.9,1.2,0.7,1.1", "0.1",

@@ -97,6 +97,7 @@ def test_overrides_set_nested_values_as_json_or_text():
     (["--set", "learnin.runs=3"], "learnin = {'runs': 3} is not a setting of the study"),
     (["--set", 'learning.budgets={"short": -100}'], "learning.budgets.short = -100 is outside"),
 ])
+@pytest.mark.slow
 def test_run_all_refuses_a_bad_configuration_with_one_line_and_writes_nothing(tmp_path, args,
                                                                               message):
     bad = tmp_path / "bad.json"

@@ -388,6 +388,7 @@ def test_on_a_fresh_clone_it_serves_in_seconds_showing_the_box_in_the_hands(tmp_
         command.wait()
 
 
+@pytest.mark.slow
 def test_on_an_empty_cache_a_1_cm_landscape_is_shown_until_step_is_given(tmp_path, monkeypatch,
                                                                          capsys):
     cache = tmp_path / "cache"

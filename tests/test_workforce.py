@@ -38,6 +38,7 @@ def test_the_sex_mix_is_exact(size, share, women):
     assert len(table) == size and (table["sex"] == "female").sum() == women
 
 
+@pytest.mark.slow
 def test_a_large_draw_has_the_body_models_means_sds_and_correlations():
     table = sample_workforce(Workforce(4_000, seed=3))
     for sex, rows in table.groupby("sex"):

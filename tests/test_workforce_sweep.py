@@ -63,6 +63,7 @@ def test_ray_and_the_local_pool_give_identical_landscapes_for_two_workers(cache,
     assert checksum(local[0].landscape.arrays) != checksum(local[1].landscape.arrays)
 
 
+@pytest.mark.slow
 def test_finished_workers_come_from_the_cache(cache):
     grid = Grid(SMALL, 0.1)
     first = swept(grid, TWO[:1], None)
@@ -72,6 +73,7 @@ def test_finished_workers_come_from_the_cache(cache):
                                   first[0].landscape.arrays["paper_postural"])
 
 
+@pytest.mark.slow
 def test_the_same_worker_twice_is_swept_once(cache):
     grid = Grid(SMALL, 0.1)
     done = swept(grid, [TWO[0], TWO[1], TWO[0]], LocalExecutor(2))
