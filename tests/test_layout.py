@@ -6,6 +6,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "ergohandover"
 LAYERS = ("ergonomics", "io", "twin", "workload", "capture", "scene", "landscape", "robustness",
           "envs", "search", "viewer", "study", "cli")
@@ -82,6 +84,7 @@ def test_layers_import_only_the_layers_above_them():
                     f"{path.relative_to(PACKAGE)} imports {module}")
 
 
+@pytest.mark.slow
 def test_no_module_imports_another_modules_private_names():
     for path in [*PACKAGE.rglob("*.py"), *PACKAGE.parents[1].glob("experiments/**/*.py")]:
         for module, names in imports(path):
@@ -116,9 +119,11 @@ CACHE_NAMES = {"cache_dir", "landscape_path"}
 ergohandover.landscape.store, is every other module's way to a cached landscape)."""
 ANALYSIS_MAY_IMPORT = {"io.atomic": None, "search.registry": {"SEARCHERS"},
                        "search.statistics": {"wilson"},
-                       "landscape.stats": {"plot_distributions"}}
+                       "landscape.stats": {"plot_distributions"},
+                       "workload.flags": {"LIFTING_INDEX_SCOPE", "flag_column"}}
 """What experiments/analysis/ may take from the package: writing files, the agents' names,
-arithmetic on numbers read from results/ and a plot; nothing that evaluates or sweeps."""
+arithmetic on numbers read from results/ (flags of action limits and cut-offs among them) and
+a plot; nothing that evaluates or sweeps."""
 
 
 def script_imports(path: Path):
@@ -142,6 +147,7 @@ def test_scripts_import_no_sibling_study_script_and_nothing_from_the_cli():
                 f"{path.relative_to(ROOT)} imports {module}")
 
 
+@pytest.mark.slow
 def test_nothing_outside_the_landscape_layer_touches_the_cache():
     for path in [*PACKAGE.rglob("*.py"), *EXPERIMENTS.rglob("*.py")]:
         if path.is_relative_to(PACKAGE / "landscape"):

@@ -10,6 +10,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from ergohandover.study.registry import QUESTIONS
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -37,6 +39,10 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
                  "population"):
         manifest = json.loads((results / part / "manifest.json").read_text())
         assert manifest["part_hash"] and manifest["versions"]["numpy"]
+    # Each part's manifest lists what it wrote: only what its registry entry declares.
+    for question in QUESTIONS:
+        wrote = json.loads((results / question.name / "manifest.json").read_text())["wrote"]
+        assert set(wrote) <= set(question.writes), question.name
     assert {p.name for p in figures.glob("*.png")} >= {
         "score_distribution.png", "learning_min_score.png", "learning_best_so_far.png",
         "learning_evaluations.png", "learning_success.png", "learning_rollouts.png",

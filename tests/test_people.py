@@ -123,10 +123,10 @@ def test_the_split_is_seeded_and_keeps_out_of_distribution_out_of_training(table
     assert list(split(used, 0.5, 42)) != list(groups)
 
 
-def test_the_readme_row_is_the_committed_result():
-    readme = (ROOT / "README.md").read_text()
+def test_the_full_headline_is_the_committed_result():
+    report = (ROOT / "docs" / "report.md").read_text()
     row = people_tables.blocks(ROOT / "results")["people-headline"]
-    assert f"<!-- people-headline -->{row}<!-- /people-headline -->" in readme
+    assert f"<!-- people-headline -->{row}<!-- /people-headline -->" in report
 
 
 def test_an_unknown_fit_weight_is_refused():

@@ -274,3 +274,16 @@ def test_report_run_times_are_the_committed_manifests():
         assert f"{total - 45:.1f} over the target of 45" in text
         assert f"{total - 45:.1f} over the 45-minute target" in readme
         pytest.xfail(f"the default study takes {total} minutes on 2 cores, over its 45")
+
+
+def test_each_committed_part_took_at_most_its_declared_budget():
+    """Each part's committed wall time is within the budget its registry entry declares."""
+    import json
+
+    from ergohandover.study.registry import QUESTIONS
+
+    for question in QUESTIONS:
+        took = json.loads((ROOT / "results" / question.name / "manifest.json").read_text())[
+            "wall_time_s"]
+        assert took <= question.budget_s, (
+            f"{question.name} took {took:.0f} s, over its budget of {question.budget_s:.0f} s")

@@ -60,9 +60,10 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
                      & (regression["term"] == "male")].iloc[0]
     t = trade(personal)
     return (
-        f"Measured as an IMU system measures (Schall et al. 2016: per-joint SDs of 6.6–8.5°, "
-        f"correlated within a segment and between sides; `measured_error.csv` says which "
-        f"figures are measured and which assumed), the nominal optimum's paper score of "
+        f"Under an IMU-like error model (per-joint SDs of 6.6–8.5°, 4 of its 15 from Schall "
+        f"et al. 2016; the other SDs, every correlation within a segment and between sides "
+        f"and the zero biases assumed, as `measured_error.csv` lists), the nominal optimum's "
+        f"paper score of "
         f"{int(at_imu['nominal'])} is measured as {int(at_imu['nominal'])} or better in "
         f"{100 * at_imu['p_nominal_or_better']:.1f} % of {int(at_imu['draws']):,} measurements "
         f"(mean {at_imu['mean']:.2f}); against the shortest-distance locations of the 5 "
@@ -103,8 +104,8 @@ def claim(locations, comparisons, regret, one_size, regression, measured, person
         f"resamples' means). At the reference's optimum, with stature alone beside sex as a "
         f"straight line (`penalty_regression.csv`), men pay {sex['coef']:+.2f} "
         f"({sex['ci_low']:+.2f} to {sex['ci_high']:+.2f}, p = {sex['p']:.2g}) points of penalty "
-        f"more than women of the same stature; the population part's pre-specified tests, "
-        f"stature as a spline, do not support it.")
+        f"more than women of the same stature; the population part's post hoc tests (planned "
+        f"after this p was seen), stature as a spline, do not support it.")
 
 
 def headline(locations, comparisons, regret, one_size, measured, personal, variants) -> str:
@@ -117,7 +118,8 @@ def headline(locations, comparisons, regret, one_size, measured, personal, varia
     rs = regret[(regret["recommendation"] == "nominal optimum")
                 & (regret["score"] == "paper_postural")].set_index("source")
     t = trade(personal)
-    return (f"measured as an IMU system measures (Schall et al. 2016; {int(at_imu['draws']):,} "
+    return (f"under an IMU-like error model (4 of its 15 SDs from Schall et al. 2016, the "
+            f"rest, the correlations and the zero biases assumed; {int(at_imu['draws']):,} "
             f"measurements a location) the optimum's {int(at_imu['nominal'])} is measured as "
             f"such {100 * at_imu['p_nominal_or_better']:.1f} % of the time; in expectation "
             f"(unadjusted 95 % intervals) {measured_counts(measured)}; with the same error on "

@@ -67,7 +67,7 @@ import numpy as np
 import pandas as pd
 from handover_summary import clean, read_metadata, summarise
 
-DEFAULT_OUTPUT = "src/ergohandover/study/handover_reference.json"
+DEFAULT_OUTPUT = "src/ergohandover/study/validation/handover_reference.json"
 PROJECT_ROOT = Path(__file__).resolve().parents[2]
 MARKER_FILE = "baton_pose_saved.csv"
 RATE_HZ = 120.0

@@ -55,7 +55,7 @@ from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
 from ergohandover.study.people.transfer import TransferError, transfer
 
 ROOT = Path(__file__).resolve().parents[2]
-OUTPUT = ROOT / "src" / "ergohandover" / "study" / "measured_handovers.csv"
+OUTPUT = ROOT / "src" / "ergohandover" / "study" / "people" / "measured_handovers.csv"
 FPS = 30.0
 HANDS = (8, 15)
 """BODY_34's left and right hand points."""

@@ -27,7 +27,7 @@ from ergohandover.study.personalise.measured_answers import (
 )
 from ergohandover.study.personalise.sessions import leave_one_out_priors, run_seeds
 from ergohandover.study.shared import grid_of
-from ergohandover.study.workforce import bodies, workforce_of
+from ergohandover.study.workforce import bodies
 from ergohandover.twin.evaluate import Evaluator
 
 NOISES = (0.1, 0.3, 1.0)
@@ -42,7 +42,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=2, help="runs per worker (default 2)")
     args = parser.parse_args()
     config = StudyConfig()
-    table = workforce_of(config.population)
+    table = config.population.workers()
     population = pd.read_csv("results/population/workers.csv")
     evaluators = [Evaluator(b, config.task()) for b in bodies(table)]
     grid = grid_of(evaluators[-1], config.population.boundary, config.population.step)

@@ -15,10 +15,10 @@ from ..io.atomic import atomic_write, atomic_write_csv
 from ..io.manifest import write_manifest
 from ..scene.robot import RobotSpec
 from ..sim import require_display
-from ..study.baseline_outputs import render, write_paths
-from ..study.baselines import PAPER_STARTS, compare, markdown_table
-from ..study.config import RobustnessConfig
-from ..study.robustness import recommendations
+from ..study.baselines.comparison import PAPER_STARTS, compare, markdown_table
+from ..study.baselines.outputs import render, write_paths
+from ..study.robustness.analysis import recommendations
+from ..study.robustness.config import RobustnessConfig
 from ..twin.evaluate import Evaluator
 from . import defaults
 from .evaluate import show_in_window

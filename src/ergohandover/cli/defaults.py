@@ -19,14 +19,11 @@ from typing import Any
 from ..envs.handover_env import HandoverEnv
 from ..errors import ErgohandoverError
 from ..search.qlearning import QLearningConfig
-from ..study.config import (
-    BaselinesConfig,
-    LandscapeConfig,
-    LearningConfig,
-    RobustnessConfig,
-    StudyConfig,
-    Target,
-)
+from ..study.baselines.config import BaselinesConfig
+from ..study.config import StudyConfig
+from ..study.landscape.config import LandscapeConfig
+from ..study.learning.config import LearningConfig, Target
+from ..study.robustness.config import RobustnessConfig
 from ..study.script import CONFIGS, ROOT
 from ..twin.evaluate import Evaluator
 

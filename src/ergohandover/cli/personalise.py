@@ -15,7 +15,7 @@ from pathlib import Path
 from ..envs.scores import OBJECTIVES
 from ..errors import ConfigError
 from ..io.csv_input import InputError
-from ..study.config import PopulationConfig
+from ..study.population.config import PopulationConfig
 from . import defaults
 from .options import (
     add_evaluator_arguments,

@@ -119,6 +119,7 @@ def run(args: argparse.Namespace) -> int:
     from ..viewer.chromium import chromium, print_pdf
     from ..viewer.report_page import PAGE_COLUMNS, report_page, shown
     from ..workload import Levers, workload_table
+    from ..workload.flags import LIFTING_INDEX_SCOPE, flag_column, flags
 
     # Every check before any work: what to report, on whom, and that the PDF can be printed.
     evaluator = evaluator_from_args(args)
@@ -139,7 +140,8 @@ def run(args: argparse.Namespace) -> int:
     notes = [f"Lift: {lift.lift_frequency:g} a minute, {lift.lift_duration} duration, set down "
              f"at {lift.lift_destination:g} m (revised NIOSH equation, Waters et al. 1993). "
              "Back: static sagittal model, 5 cm erector arm; limits 3,400 N and 6,400 N "
-             "(NIOSH 1981); % capable assumes strength CV 0.277.", *notes]
+             f"(NIOSH 1981); % capable assumes strength CV 0.277. Note: {LIFTING_INDEX_SCOPE}.",
+             *notes]
     with tempfile.TemporaryDirectory(prefix=".report-", dir=nearest_existing(output)) as tmp:
         tmp = Path(tmp)
         render_points(table, points, evaluator, tmp / "pictures")
@@ -151,13 +153,14 @@ def run(args: argparse.Namespace) -> int:
             pages.append(report_page(
                 row, f"Handover at {row['location']}",
                 f"box at x={x:+.3f}, y={y:.3f}, z={z:.3f} m (worker frame){state}; {who}",
-                picture, notes))
+                picture, notes, flags(row)))
         document = "<div style='break-after: page'></div>".join(pages)
         (tmp / "report.html").write_text(document)
         # The numbers as the pages show them, then the rest of the Evaluation as it is.
         text = pd.DataFrame({c: [shown(c, v) for v in rows[c]] for c in PAGE_COLUMNS})
         rest = [c for c in (*EVALUATION_COLUMNS, *work.columns) if c not in PAGE_COLUMNS]
-        atomic_write_csv(pd.concat([rows[["location"]], text, rows[rest]], axis=1),
+        atomic_write_csv(pd.concat([rows[["location"]], flag_column(rows).rename("flags"), text,
+                                    rows[rest]], axis=1),
                          tmp / "report.csv")
         if args.pdf:
             print_pdf(tmp / "report.html", tmp / "report.pdf")

@@ -18,8 +18,8 @@ from ..errors import ConfigError
 from ..io.csv_input import InputError
 from ..landscape.stats import optimum
 from ..sim import require_display
-from ..study.baseline_outputs import record_start, start_numbers
-from ..study.baselines import PAPER_STARTS, shortest_distance
+from ..study.baselines.comparison import PAPER_STARTS, shortest_distance
+from ..study.baselines.outputs import record_start, start_numbers
 from ..study.config import StudyConfig
 from ..study.script import ROOT
 from .options import (

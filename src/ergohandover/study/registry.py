@@ -1,8 +1,8 @@
 """The study's questions: one folder each (``study/<name>/``: its config section, its
 computation and its ``part.py``), and one entry here that declares what the question
 **needs** (the questions whose results it reads), what it **writes** (its files, and the columns
-other questions and its headline read), its **headline** (the README row it answers, declared
-in ``study/<name>/headline.py``, or none) and its time **budget** on 2 cores.
+other questions and its headline read), whether it has a **headline** (README rows declared in
+experiments/analysis/headlines.py) and its time **budget** on 2 cores.
 
 ``experiments/run_all.py`` orders the questions from ``needs`` (:func:`run_order`); no part
 imports another part, and a part reads what another wrote only through that question's
@@ -32,7 +32,8 @@ class Question:
             another question or its headline reads from it (``()``: none is read elsewhere).
         budget_s: its declared wall time on 2 cores [s] (``run_all`` prints its time against
             it; the committed times must sum within the study's).
-        headline: the README row it answers (``study/<name>/headline.py``), or "".
+        headline: whether it answers README headline rows (declared under its name in
+            experiments/analysis/headlines.py: claim, N, uncertainty, baseline, reversals).
         figure: its figure script in experiments/analysis/, or "".
     """
 
@@ -40,7 +41,7 @@ class Question:
     needs: tuple[str, ...]
     writes: dict[str, tuple[str, ...]]
     budget_s: float
-    headline: str = ""
+    headline: bool = False
     figure: str = ""
 
 
@@ -49,51 +50,52 @@ XYZ = ("x", "y", "z")
 QUESTIONS = (
     Question("landscape", (), {
         "stats.csv": ("score", "best_x", "best_y", "best_z"), "distribution.csv": (),
-        "variants.csv": (), "gaze_effect.csv": ()}, 90, "landscape", "fig_score_distribution"),
+        "variants.csv": (), "gaze_effect.csv": ()}, 90, True, "fig_score_distribution"),
     Question("learning", ("landscape",), {
         "found.csv": ("target", "agent", "budget", "run", *XYZ, "argmin_x", "argmin_y",
                       "argmin_z"),
         "summary.csv": (), "comparisons.csv": (), "runs.csv": (), "curves.csv": (),
         "full_runs.csv": (), "power.csv": (), "targets.csv": (), "traces.csv": ()},
-        200, "learning", "fig_learning"),
+        200, True, "fig_learning"),
     Question("baselines", ("landscape", "learning"), {
-        "baselines.csv": ("start_x", "start_y", "start_z", "method", *XYZ), "baselines.md": (), "other_starts.csv": (),
+        "baselines.csv": ("start_x", "start_y", "start_z", "method", *XYZ), "baselines.md": (),
+        "other_starts.csv": (),
         "reachability.csv": (), "reachability_summary.csv": (), "paths/": (), "renders/": (),
-        "recordings/": ()}, 130, "baselines", "fig_baselines"),
+        "recordings/": ()}, 130, True, "fig_baselines"),
     Question("ablations", ("landscape",), {"ik.csv": ()}, 40),
     Question("participants", ("landscape",), {
-        "participants.csv": ("worker", "location", "start", *XYZ)}, 50, "participants",
+        "participants.csv": ("worker", "location", "start", *XYZ)}, 50, True,
         "fig_participants"),
     Question("population", (), {
         "workers.csv": ("worker",), "one_size.csv": (), "penalties.csv": (), "groups.csv": (),
         "who_pays_tests.csv": (), "height_fit.csv": (), "fixed_ratio_twin.csv": (),
-        "proportions.csv": (), "working_heights.csv": ()}, 330, "population", "fig_population"),
-    Question("sensitivity", ("landscape",), {"sensitivity.csv": ()}, 100, "",
+        "proportions.csv": (), "working_heights.csv": ()}, 330, True, "fig_population"),
+    Question("sensitivity", ("landscape",), {"sensitivity.csv": ()}, 100, False,
              "fig_sensitivity"),
     Question("validation", ("landscape",), {
-        "validation.csv": (), "knee_height.csv": (), "handovers.csv": ()}, 10, "",
+        "validation.csv": (), "knee_height.csv": (), "handovers.csv": ()}, 10, False,
         "fig_validation"),
     Question("robustness", ("baselines", "participants", "population", "sensitivity"), {
         "locations.csv": ("location", *XYZ), **{f"{name}.csv": () for name in (
             "comparisons", "expected_landscape", "flips", "margins", "measured_comparisons",
             "measured_error", "measured_flips", "measured_locations", "one_size",
             "penalty_regression", "personal", "placement", "practice_carries", "regret",
-            "regret_summary")}}, 240, "robustness", "fig_robustness"),
+            "regret_summary")}}, 240, True, "fig_robustness"),
     Question("stance", ("baselines", "participants"), {
-        "headline.csv": (), "locations.csv": (), "posture_error.csv": ()}, 20, "stance"),
+        "headline.csv": (), "locations.csv": (), "posture_error.csv": ()}, 20, True),
     Question("personalise", ("population",), {
         "runs.csv": (), "summary.csv": (), "curves.csv": (), "workers.csv": (),
-        "measured_runs.csv": (), "measured_summary.csv": ()}, 1100, "personalise",
+        "measured_runs.csv": (), "measured_summary.csv": ()}, 1100, True,
         "fig_personalise"),
-    Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 5, "",
+    Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 5, False,
              "fig_capture"),
     Question("people", ("landscape",), {
         "handovers.csv": (), "errors.csv": (), "fit.csv": (), "locations.csv": (),
-        "recommendation.csv": (), "study_task.csv": ()}, 75, "people", "fig_people"),
+        "recommendation.csv": (), "study_task.csv": ()}, 75, True, "fig_people"),
     Question("manikins", ("robustness",), {"manikins.csv": ()}, 15),
     Question("accommodation", ("robustness",), {
-        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600,
-        "accommodation", "fig_accommodation"),
+        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600, True,
+        "fig_accommodation"),
 )
 """Every question, in the order ``run_all`` runs them all (each after what it needs)."""
 

@@ -81,10 +81,11 @@ def run_part(name: str, folder: Path, inputs: dict[str, Any],
         extra = work(stage) or {}
         where = {"engine": {"name": engine.name, "workers": engine.workers,
                             "address": engine.address}} if engine is not None else {}
+        wrote = sorted(p.name + ("/" if p.is_dir() else "") for p in stage.iterdir())
         write_manifest(stage, config={"part": name, **inputs}, seeds=seeds or {},
                        wall_time_s=time.perf_counter() - start,
                        extra={"part_hash": part_hash(inputs), "code_hash": twin_code_version(),
-                              **where, **extra})
+                              "wrote": wrote, **where, **extra})
         replace_folder(stage, folder)
     finally:
         shutil.rmtree(stage, ignore_errors=True)

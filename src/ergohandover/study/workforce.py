@@ -11,7 +11,6 @@ landmarks are out of anatomical order is drawn again. The sex mix is exact:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -19,9 +18,6 @@ import pandas as pd
 from ..errors import ConfigError
 from ..twin.anthropometry import BodySpec
 from ..twin.body_model import MEASUREMENTS
-
-if TYPE_CHECKING:
-    from .population.config import PopulationConfig
 
 
 @dataclass(frozen=True)
@@ -100,16 +96,17 @@ def bodies(workers: pd.DataFrame) -> list[BodySpec]:
     return out
 
 
-def workforce_of(part: PopulationConfig) -> pd.DataFrame:
-    """The sampled workers (their measurements) and, last, the reference worker (sized by the
-    body model from stature and mass), with their landmarks and proportions."""
-    table = sample_workforce(Workforce(part.size, part.seed, part.female_share))
+def workforce_of(workforce: Workforce, reference_worker: str) -> pd.DataFrame:
+    """The sampled workers (their measurements) and, last, the reference worker (a named
+    percentile, sized by the body model from stature and mass), with their landmarks and
+    proportions."""
+    table = sample_workforce(workforce)
     table["reference"] = 0
-    reference = BodySpec.from_percentile(part.reference)
+    reference = BodySpec.from_percentile(reference_worker)
     # The reference's measurements are the body model's means given his stature and mass.
     marks = reference.landmarks()
     table.loc[len(table)] = {**{c: round(marks[c], 4) for c in table.columns if c in marks},
-                             "worker": part.reference, "sex": reference.sex,
+                             "worker": reference_worker, "sex": reference.sex,
                              "stature_m": reference.stature_m, "mass_kg": reference.mass_kg,
                              "reference": 1}
     derived = landmark_columns(bodies(table))

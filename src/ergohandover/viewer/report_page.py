@@ -70,6 +70,7 @@ td { padding: 1px 4px; border-bottom: 1px solid #e3e3e3; }
 td.v { text-align: right; font-variant-numeric: tabular-nums; }
 .big td.v { font-weight: bold; font-size: 12px; }
 .note { color: #555; font-size: 9px; margin-top: 6px; }
+.flags { color: #a40000; font-weight: bold; margin: 4px 0; }
 """
 
 
@@ -101,9 +102,10 @@ def _rows(row: Mapping, columns, labels: Mapping | None = None) -> str:
 
 
 def report_page(row: Mapping, title: str, subtitle: str, picture: bytes | None,
-                notes: list[str]) -> str:
+                notes: list[str], warnings: list[str] = ()) -> str:
     """The page of one handover: ``row`` holds the Evaluation, workload and accommodation
-    columns (shown as :func:`shown` writes them), ``picture`` the twin's PNG."""
+    columns (shown as :func:`shown` writes them), ``picture`` the twin's PNG, ``warnings`` the
+    row's flags (action limits exceeded, knife edges of cut-offs), shown above the scores."""
     image = ("" if picture is None else '<img alt="the twin holding the box" src="data:image/'
              f'png;base64,{base64.b64encode(picture).decode()}">')
     headline = _rows(row, HEADLINE,
@@ -113,6 +115,7 @@ def report_page(row: Mapping, title: str, subtitle: str, picture: bytes | None,
                       "measured_share": "workforce suited, as measured"})
     parts = [
         f"<h1>{html.escape(title)}</h1><div class='sub'>{html.escape(subtitle)}</div>",
+        "".join(f"<div class='flags' data-flag>⚠ {html.escape(w)}</div>" for w in warnings),
         f"<div class='grid'><div>{image}</div><div><h2>Scores</h2>"
         f"<div class='big'>{headline}</div></div></div>",
         "<div class='grid'>",

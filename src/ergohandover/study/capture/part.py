@@ -1,7 +1,7 @@
 """Study part `capture`: how well each keypoint format (H36M-17, COCO-17, MediaPipe-33, ZED
 BODY_34, SMPL-24) measures a worker, on the twin's own handover postures placed as each format
 places its joints; and how often REBA, RULA and the paper's score come out right from them with
-published angle errors added (src/ergohandover/study/capture_accuracy.py).
+published angle errors added (src/ergohandover/study/capture/accuracy.py).
 
 Writes results/capture/columns.csv (per format and angle column: the share of postures in which
 it is measured and the error where it is [deg]), results/capture/scores.csv (per format, angle

@@ -1,8 +1,8 @@
 """Study part `people`: the twin beside Kim et al.'s 1,000 measured human-human handovers (ICRA
-2025; derived figures in src/ergohandover/study/measured_handovers.csv, the data outside the
+2025; derived figures in src/ergohandover/study/people/measured_handovers.csv, the data outside the
 project): where people received, how far the twin sized to each receiver predicts their
 posture, how far they received from the twin's recommendation, and a fit of the twin's weights
-held out (src/ergohandover/study/beside_people.py).
+held out (src/ergohandover/study/people/beside_people.py).
 
 Writes results/people/handovers.csv (per handover: split, the receiving location, the twin's
 size, the measured and predicted angles of the default and the fitted twin, the twin's scores

@@ -50,7 +50,7 @@ from ..engines import Engine
 from ..resume import run_part
 from ..sensitivity.variants import variants
 from ..shared import grid_of, landscapes, run_jobs
-from ..workforce import bodies, workforce_of
+from ..workforce import bodies
 from .measured_answers import (
     IN_MODEL,
     MeasuredJob,
@@ -98,7 +98,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
     part = config.personalise
 
     def work(folder: Path) -> dict:
-        table = workforce_of(config.population)
+        table = config.population.workers()
         population = pd.read_csv(results / "population" / "workers.csv")
         task = config.task()
         evaluators = [Evaluator(body, task) for body in bodies(table)]

@@ -6,7 +6,7 @@ import dataclasses
 
 from ..choices import BOUNDARIES, DEFAULT_WORKER, WORKERS
 from ..typed_json import setting
-from ..workforce import Workforce
+from ..workforce import Workforce, workforce_of
 
 
 @dataclasses.dataclass(frozen=True)
@@ -19,3 +19,8 @@ class PopulationConfig:
     step: float = setting(0.01, positive=True, unit="m")
     bootstrap: int = setting(2000, lo=1)
     bootstrap_seed: int = setting(7, lo=0)
+
+    def workers(self):
+        """The population's workers and, last, its reference worker (a table:
+        :func:`..workforce.workforce_of`)."""
+        return workforce_of(Workforce(self.size, self.seed, self.female_share), self.reference)

@@ -24,7 +24,7 @@ Writes results/population/:
   proportions.csv  penalty at each one-size location against stature, sex and proportions
                   (elbow height / stature, arm length / stature): least squares, each term's
                   coefficient, 95 % interval and p-value (the fit reported before the plan)
-  who_pays_tests.csv  the pre-specified "who pays" tests (docs/population.md#the-analysis-plan):
+  who_pays_tests.csv  the post hoc "who pays" tests (docs/population.md#the-analysis-plan):
                   per score and distinct one-size location, sex beyond body size and stature,
                   under the plan's model (stature as a spline, HC3 errors) and the three it
                   departs from; Holm-adjusted p over the plan's family
@@ -55,7 +55,7 @@ from ..config import StudyConfig
 from ..engines import Engine
 from ..resume import run_part
 from ..shared import grid_of, landscape, where
-from ..workforce import bodies, workforce_of
+from ..workforce import bodies
 from .analysis import OBJECTIVES, analyse
 
 
@@ -126,7 +126,7 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
     part = config.population
 
     def work(folder: Path) -> dict:
-        table = workforce_of(part)
+        table = part.workers()
         task = config.task()
         evaluators = [Evaluator(body, task) for body in bodies(table)]
         # One grid for everyone (a one-size location must be a point of every landscape):

@@ -1,4 +1,5 @@
-"""Who pays for a one-size handover location: the population study's pre-specified tests.
+"""Who pays for a one-size handover location: the population study's post hoc tests
+(planned after the straight-line analysis was seen).
 
 The plan (docs/population.md#the-analysis-plan; the same for every score and location):
 - the response is a worker's penalty at a one-size location (score there less their own

@@ -19,7 +19,7 @@ from ..engines import Engine
 from ..population.one_size import CHOICES, one_size_cells, penalty_regression
 from ..sensitivity.variants import variants
 from ..shared import grid_of, landscape, landscapes
-from ..workforce import bodies, workforce_of
+from ..workforce import bodies
 from .analysis import (
     bootstrap_mean,
     practice_location,
@@ -141,7 +141,7 @@ def population_tables(config: StudyConfig, engine: Engine, recommendations: pd.D
     optimism, the penalty on stature and sex, one-size against personal under posture error,
     and each worker's robust location."""
     pop, part = config.population, config.robustness
-    table = workforce_of(pop)
+    table = pop.workers()
     evaluators = [Evaluator(b, config.task()) for b in bodies(table)]
     grid = grid_of(evaluators[-1], pop.boundary, pop.step)
     print(f"  {len(evaluators)} workers of the population")

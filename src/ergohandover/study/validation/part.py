@@ -11,8 +11,8 @@ results/validation/knee_height.csv (per worker and location: ankle, knee, hip an
 [deg] and the postural index), results/validation/handovers.csv (the twin where people received
 an object in measured handovers: per handover, placement and quantity the receiver's angle and
 the twin's, and the twin's scores there beside its own optimum; see
-src/ergohandover/study/handover_validation.py) and manifest.json. The conditions and their
-citations are in src/ergohandover/study/validation.py.
+src/ergohandover/study/validation/handovers.py) and manifest.json. The conditions and their
+citations are in src/ergohandover/study/validation/published.py.
 """
 
 from __future__ import annotations

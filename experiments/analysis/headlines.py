@@ -1,0 +1,421 @@
+"""The study's headlines, declared: each README row holds a claim, its N, its uncertainty, the
+baseline it is compared with (what a user gets without this tool's answer) and the conditions
+under which it reverses or vanishes, every figure read from results/. The README's headline
+table (block ``headlines``) and the report's table of them (block ``headline-rules``) are
+rendered from these declarations; ``python headlines.py`` rewrites both, and
+tests/test_readme.py and tests/test_headline_rules.py keep them equal to results/.
+
+Each headline names the question of the study registry (ergohandover.study.registry) that
+answers it."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+import personalise_tables
+import robustness_verdicts
+import stance_tables
+from learning_tables import CEILING, verdicts
+from population_tables import planned_sex
+from readme_blocks import rewrite
+
+CELL = 250
+"""The most characters a README cell holds; the rest is in the report, one link away."""
+
+MINIMUM_VARIANTS = {
+    "no effort task (the straight-legged twin)": "when the twin does not feel the load on its "
+                                                 "back, hips and knees",
+    "effort free share 7.9% (sustained holds)": "when 7.9 % of its effort is free (sustained "
+                                                "holds)"}
+"""The sensitivity variants whose minimum differs from the default's, as the row names them."""
+
+ERROR_MODEL = ("an IMU-like error model (4 of its 15 SDs from Schall et al. 2016; the other 11, "
+               "every correlation and the zero biases assumed)")
+"""What the rows read "as measured" against: which parts of the model are measured."""
+
+
+@dataclass(frozen=True)
+class Headline:
+    """One README row.
+
+    Attributes:
+        question: the study question that answers it (its registry name).
+        label: the row's label, linking to ``anchor`` in docs/report.md.
+        paper: what the paper claims, or "not studied".
+        claim: what the study measured.
+        n: how many (workers, runs, starts, locations...).
+        uncertainty: the interval, or what makes the figure exact.
+        baseline: what a user gets without the tool's answer, with its figure.
+        reverses: each condition under which the claim reverses or vanishes.
+        none_because: why the results hold no reversing condition (when ``reverses`` is empty).
+        files: the results files its figures come from.
+    """
+
+    question: str
+    label: str
+    anchor: str
+    paper: str
+    claim: str
+    n: str
+    uncertainty: str
+    baseline: str
+    reverses: tuple[str, ...]
+    none_because: str
+    files: tuple[str, ...]
+
+
+def exact_interval(successes: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """The exact (Clopper-Pearson) interval of a share: never degenerate at 0 or 1."""
+    from scipy.stats import beta
+
+    alpha = 1 - level
+    low = 0.0 if successes == 0 else float(beta.ppf(alpha / 2, successes, n - successes + 1))
+    high = 1.0 if successes == n else float(beta.ppf(1 - alpha / 2, successes + 1,
+                                                      n - successes))
+    return low, high
+
+
+def pct(value: float) -> str:
+    """A share in percent as the rows write it: ``64 %``, ``99.6 %`` near a bound."""
+    text = f"{100 * value:.1f}" if 0.99 < value < 1 or 0 < value < 0.01 else f"{100 * value:.0f}"
+    return f"{text} %"
+
+
+def stepping_counts(results: Path) -> dict[str, int]:
+    """How many of the default worker's starts the optimised location still beats once the
+    worker may step, per score (stance/headline.csv)."""
+    head = pd.read_csv(results / "stance" / "headline.csv")
+    mine = head[(head["optimised_location"] == "optimised") & (head["stance"] == "step")]
+    return {s: int(rows["beats"].sum()) for s, rows in mine.groupby("score")}
+
+
+def span(values) -> str:
+    low, high = int(min(values)), int(max(values))
+    return str(low) if low == high else f"{low}–{high}"
+
+
+def landscape_rows(results: Path) -> list[Headline]:
+    stats = pd.read_csv(results / "landscape" / "stats.csv").set_index("score")
+    post = stats.loc["paper_postural"]
+    manifest = json.loads((results / "landscape" / "manifest.json").read_text())
+    minutes = manifest["sweep_seconds"] / 60
+    moved = pd.read_csv(results / "sensitivity" / "sensitivity.csv").set_index("variant").loc[
+        list(MINIMUM_VARIANTS), "paper_postural_min"]
+    share = 100 * post["n_at_min"] / post["points"]
+    return [
+        Headline("landscape", "the landscape", "the-exhaustive-landscape",
+                 "evaluating every location of the grid (~3.4 M) takes ~3 h",
+                 f"every location scored in {minutes:.1f} min on 2 cores",
+                 f"{int(post['points']):,} locations", "one timed run",
+                 "the paper's Unity evaluation: ~3 h", (),
+                 "a time on one machine, not a claim that can reverse",
+                 ("landscape/stats.csv", "landscape/manifest.json")),
+        Headline("landscape", "its minimum", "the-exhaustive-landscape",
+                 "most of the landscape scores 6–7; 0.004 % reaches the minimum, 4",
+                 f"the minimum is {int(post['min'])}, on {share:.2f} % of the grid",
+                 f"{int(post['points']):,} locations", "exact: every location scored",
+                 "the paper's 4 on 0.004 %",
+                 tuple(f"{int(v)} {MINIMUM_VARIANTS[k]}" for k, v in moved.items()), "",
+                 ("landscape/stats.csv", "sensitivity/sensitivity.csv")),
+    ]
+
+
+def learning_rows(results: Path) -> list[Headline]:
+    summary = pd.read_csv(results / "learning" / "summary.csv")
+    comparisons = pd.read_csv(results / "learning" / "comparisons.csv")
+    mine = summary[(summary["target"] == "paper") & (summary["mapping"] == 315.0)]
+
+    def rate(agent: str) -> pd.DataFrame:
+        return mine[mine["agent"] == agent].sort_values("steps")
+
+    def counts(rows: pd.DataFrame) -> str:
+        return " and ".join(f"{int(r['successes'])}/{int(r['n_runs'])}"
+                            for _, r in rows.iterrows())
+
+    q, draws = rate("qlearning"), rate("random-draws")
+    intervals = ", ".join(f"{r['ci_low']:.2f}–{r['ci_high']:.2f}" for _, r in q.iterrows())
+    walk = comparisons[(comparisons["agent"] == "qlearning")
+                       & (comparisons["versus"] == "randomwalk")]
+    drawn = comparisons[(comparisons["agent"] == "qlearning")
+                        & (comparisons["versus"] == "random-draws")]
+    better = int(walk["verdict"].str.startswith("better").sum())
+    better_draws = int(drawn["verdict"].str.startswith("better").sum())
+    worse_draws = int(drawn["verdict"].str.startswith("worse").sum())
+    ceiling = int((verdicts(walk) == CEILING).sum())
+    return [
+        Headline("learning", "learning", "the-learning-study-can-the-learners-be-told-apart",
+                 "10 Q-learning runs at 2 min and 10 at 5 min all reach the global minimum",
+                 f"Q-learning reaches the minimum in {counts(q)} runs at the paper's two caps",
+                 f"{int(q['n_runs'].iloc[0])} runs a cap", f"95 % Wilson {intervals}",
+                 f"random draws: {counts(draws)}", (),
+                 "success counts at the paper's two budgets, not a comparison (next row)",
+                 ("learning/summary.csv",)),
+        Headline("learning", "does it learn?",
+                 "the-learning-study-can-the-learners-be-told-apart",
+                 "Q-learning learns where to hand over",
+                 f"Q-learning beats a random walk in {better} of {len(walk)} comparisons and "
+                 f"random draws in {better_draws} (worse in {worse_draws})",
+                 f"{int(walk['n'].min())} paired runs each", "Holm-corrected",
+                 "a random walk; random draws",
+                 (f"in {ceiling} both reach the target in all but at most one run, a ceiling "
+                  "that tells nothing apart",), "",
+                 ("learning/comparisons.csv", "learning/power.csv")),
+    ]
+
+
+def robot_rows(results: Path) -> list[Headline]:
+    baselines = pd.read_csv(results / "baselines" / "baselines.csv")
+    others = pd.read_csv(results / "baselines" / "other_starts.csv")
+    reach = pd.read_csv(results / "baselines" / "reachability_summary.csv").iloc[0]
+    robust = pd.read_csv(results / "robustness" / "comparisons.csv")
+    measured = pd.read_csv(results / "robustness" / "measured_comparisons.csv")
+    clauses = tuple(robustness_verdicts.reversal_clauses(robust, {"comparisons": measured}))
+    step = stepping_counts(results)
+    starts = len(baselines[["start_x", "start_y", "start_z"]].drop_duplicates())
+    opt = baselines[baselines["method"] == "optimised"]
+    near = baselines[baselines["method"] == "shortest_distance"]
+    return [
+        Headline("baselines", "optimised vs shortest distance", "robot-and-baselines",
+                 "the optimised location beats the shortest-distance one from all five starts",
+                 f"paper score {span(opt['paper_postural'])} vs "
+                 f"{span(near['paper_postural'])}, REBA {span(opt['reba'])} vs "
+                 f"{span(near['reba'])}, RULA {span(opt['rula'])} vs {span(near['rula'])}",
+                 f"{starts} starts", "one deterministic twin, no sampling error",
+                 f"the shortest-distance location: paper score {span(near['paper_postural'])}",
+                 (*clauses, f"once the worker may step, it beats it on REBA from {step['reba']} "
+                  f"and on RULA from {step['rula']} of {starts} starts"), "",
+                 ("baselines/baselines.csv", "robustness/comparisons.csv",
+                  "stance/headline.csv")),
+        Headline("baselines", "the robot", "robot-and-baselines",
+                 "the box moves freely in Unity",
+                 f"two Panda arms on a lift and base carry the box clear of the worker: "
+                 f"{int(baselines['robot_feasible'].sum())} of {len(baselines)} carries, "
+                 f"{int(others['robot_feasible'].sum())} of {len(others)} more starts",
+                 f"{len(baselines) + len(others)} carries",
+                 "seeded planner, one plan each",
+                 f"a box that moves itself (the paper); held at {int(reach['held']):,} of "
+                 f"{int(reach['locations']):,} grid locations", (), "no carry or hold failed",
+                 ("baselines/baselines.csv", "baselines/other_starts.csv",
+                  "baselines/reachability_summary.csv")),
+    ]
+
+
+NUMBERS = {5: "five", 6: "six", 7: "seven", 8: "eight"}
+
+
+def participant_rows(results: Path) -> list[Headline]:
+    table = pd.read_csv(results / "participants" / "participants.csv")
+    stance = pd.read_csv(results / "stance" / "headline.csv")
+    own = table[table["location"] == "own-optimised"]
+    near = table[table["location"] == "shortest-distance"]
+    others = stance[(stance["optimised_location"] == "own optimised")
+                    & (stance["score"] == "reba") & (stance["stance"] == "step")]
+    return [Headline(
+        "participants", "participants", "where-and-why-we-differ-from-the-paper",
+        "five VR participants: lower REBA at the optimised location from both starts",
+        f"REBA {span(own['reba'])} at each worker's own optimum vs {span(near['reba'])} at the "
+        "shortest-distance locations",
+        f"{NUMBERS[table['worker'].nunique()]} simulated workers",
+        "one deterministic twin each", f"the shortest-distance locations: REBA "
+        f"{span(near['reba'])}",
+        (f"once they may step, in {int(others['beats'].sum())} of {len(others)} comparisons",),
+        "", ("participants/participants.csv", "stance/headline.csv"))]
+
+
+def population_rows(results: Path) -> list[Headline]:
+    one_size = pd.read_csv(results / "robustness" / "one_size.csv")
+    tests = pd.read_csv(results / "population" / "who_pays_tests.csv")
+    workers = pd.read_csv(results / "population" / "workers.csv")
+    rows = one_size[one_size["objective"] == "paper_postural"].set_index("choice")
+    held, ref = rows.loc["mean"], rows.loc["reference"]
+    sex = planned_sex(tests)
+    return [Headline(
+        "population", "population", "population-one-location-for-everyone-or-one-per-worker",
+        "personalisation named as future work",
+        f"one location for everyone (the lowest mean) costs {held['split_half_held_out']:.2f} "
+        "points of the paper score held out against each worker's own optimum",
+        f"{int((workers['reference'] == 0).sum())} sampled workers",
+        f"95 % of random splits {held['split_half_held_out_q025']:.2f}–"
+        f"{held['split_half_held_out_q975']:.2f}",
+        f"the 50th-percentile man's optimum, chosen on no worker: "
+        f"{ref['in_sample_mean_penalty']:.2f}",
+        (f"post hoc, a man's penalty differs from a woman's of the same size by "
+         f"{sex['estimate']:+.2f} ({sex['ci_low']:+.2f} to {sex['ci_high']:+.2f}), "
+         "an interval that allows a sex effect",), "",
+        ("population/workers.csv", "robustness/one_size.csv",
+         "population/who_pays_tests.csv"))]
+
+
+def robustness_rows(results: Path) -> list[Headline]:
+    robust = pd.read_csv(results / "robustness" / "comparisons.csv")
+    measured = pd.read_csv(results / "robustness" / "measured_comparisons.csv")
+    clauses = tuple(robustness_verdicts.reversal_clauses(robust, {"comparisons": measured}))
+    head = robustness_verdicts.headline_model({"comparisons": measured})["comparisons"]
+    rows = robustness_verdicts.shortest(head)
+    better = {s: int((g["ci_high"] < 0).sum()) for s, g in rows.groupby("score")}
+    starts = rows["b"].nunique()
+    return [Headline(
+        "robustness", "under error",
+        "robustness-does-the-recommendation-survive-being-measured",
+        "one exact score per location, no measurement error",
+        f"under an IMU-like error model (4 of its 15 SDs measured, the rest assumed), the "
+        f"optimum is expected better than shortest distance on REBA from {better['reba']}, "
+        f"RULA {better['rula']}, the paper score {better['paper_postural']} of {starts} starts",
+        f"{int(measured['n'].iloc[0]):,} measurements a location",
+        "unadjusted 95 % intervals", "the error-free comparison: better from every start",
+        clauses, "", ("robustness/measured_comparisons.csv", "robustness/comparisons.csv"))]
+
+
+def stance_rows(results: Path) -> list[Headline]:
+    step = stepping_counts(results)
+    head = pd.read_csv(results / "stance" / "headline.csv")
+    starts = head[(head["optimised_location"] == "optimised")]["start"].nunique()
+    planted = head[(head["optimised_location"] == "optimised") & (head["stance"] == "fixed")]
+    kept = {s: int(g["beats"].sum()) for s, g in planted.groupby("score")}
+    return [Headline(
+        "stance", "a worker who steps", "a-worker-who-can-step", "the worker's feet stay planted",
+        f"once the worker may step, the optimum still beats shortest distance on the paper score "
+        f"from {step['paper_postural']} of {starts} starts",
+        f"{starts} starts", f"{stance_tables.ERROR_SD:g}° of posture error: 95 % Monte Carlo "
+        "intervals", f"the planted worker: from {kept['paper_postural']} of {starts}",
+        (f"on REBA from only {step['reba']} and on RULA from {step['rula']}",), "",
+        ("stance/headline.csv", "stance/posture_error.csv"))]
+
+
+def people_rows(results: Path) -> list[Headline]:
+    manifest = json.loads((results / "people" / "manifest.json").read_text())
+    dropped = sum(manifest["dropped"].values())
+    errors = pd.read_csv(results / "people" / "errors.csv")
+    held = errors[(errors["group"] == "held-out") & (errors["twin"] == "default")]
+    advice = pd.read_csv(results / "people" / "recommendation.csv").set_index("score")
+    paper, reba = advice.loc["paper_postural"], advice.loc["reba"]
+    return [Headline(
+        "people", "beside people", "the-twin-beside-a-thousand-measured-handovers",
+        "no measured handover; five VR participants",
+        f"sized to each receiver, the twin misses their joint angles by a median "
+        f"{held['median_abs_deg'].min():.0f}–{held['median_abs_deg'].max():.0f}° "
+        f"({len(held)} angles, held out)",
+        f"{manifest['handovers']:,} of {manifest['handovers'] + dropped:,} measured handovers",
+        f"distance to the paper score's optimum: quartiles {100 * paper['distance_p25_m']:.0f}–"
+        f"{100 * paper['distance_p75_m']:.0f} cm",
+        "not yet compared with a constant or the mean person's posture",
+        (f"REBA's optimum spans {int(reba['optimum_cells']):,} cells, REBA hardly tells places "
+         "apart",), "", ("people/manifest.json", "people/recommendation.csv",
+                         "people/errors.csv"))]
+
+
+def personalise_rows(results: Path) -> list[Headline]:
+    measured = pd.read_csv(results / "personalise" / "measured_summary.csv")
+    budget = personalise_tables.equal_budget(measured)
+    answers = personalise_tables.HEADLINE_ANSWERS
+    inside = personalise_tables.own_rule(measured[measured["model"] == "in-model"])
+    outside = measured[measured["model"] == "out-of-model"]
+    best = personalise_tables.best_measured(inside[inside["searcher"] != "random-order"],
+                                            "in-model", answers, budget)
+    prior = inside[(inside["searcher"] == "prior") & (inside["answers"] == answers)]
+    once = prior[prior["budget"] == prior["budget"].min()].iloc[0]
+    return [Headline(
+        "personalise", "personalising",
+        "personalisation-how-many-handovers-to-find-one-workers-optimum",
+        "deep Q-learning and Soft Actor-Critic named as future work",
+        f"with each posture measured with 5° of error, the best searcher ({best['searcher']}) "
+        f"recommends a worker's true optimum after {budget} handovers in "
+        f"{pct(best['p_regret_0'])} of runs",
+        f"N = {int(inside['n_workers'].max())} workers, one run each",
+        f"95 % {pct(best['ci_low'])}–{pct(best['ci_high'])}",
+        f"no search, the prior's ranking ({int(once['budget'])} handovers, its fewest): "
+        f"{pct(once['p_regret_0'])} ({pct(once['ci_low'])}–{pct(once['ci_high'])})",
+        (f"the best's interval overlaps the prior's: no searcher is shown to beat not "
+         f"searching; for {int(outside['n_workers'].max())} workers whose twin differs from "
+         "the prior's",), "", ("personalise/measured_summary.csv",))]
+
+
+def accommodation_rows(results: Path) -> list[Headline]:
+    at = pd.read_csv(results / "accommodation" / "locations.csv")
+    zone = pd.read_csv(results / "accommodation" / "zone.csv").set_index("kind")
+    rec = at[at["location"] == "nominal optimum"].iloc[0]
+    n = int(rec["workers"])
+    suited = round(rec["exact_share"] * n)
+    low, high = exact_interval(suited, n)
+    measured = zone.loc["measured"]
+    return [Headline(
+        "accommodation", "a workforce's zone", "the-practitioners-outputs", "not studied",
+        f"error-free, REBA ≤ 3 and RULA ≤ 4 hold at the recommended location for {suited:,} of "
+        f"{n:,} workers; " + (
+            f"one IMU-like measurement agrees for {pct(rec['measured_share'])} of them "
+            f"(misclassifies {pct(1 - rec['measured_share'])})" if suited == n else
+            f"one IMU-like measurement passes a worker in {pct(rec['measured_share'])}"),
+        f"N = {n:,} workers", f"exact 95 % {pct(low)}–{pct(high)}",
+        "the error-free score", (f"as measured, no point serves {pct(measured['share'])} of "
+                                  f"the workforce (the best {pct(measured['best_share'])})",)
+        if int(measured["cells"]) == 0 else (), "none: the measured zone serves its share",
+        ("accommodation/locations.csv", "accommodation/zone.csv"))]
+
+
+def headlines(results: Path) -> list[Headline]:
+    """Every headline, in the README's order."""
+    return [*landscape_rows(results), *learning_rows(results), *robot_rows(results),
+            *participant_rows(results), *population_rows(results),
+            *robustness_rows(results), *stance_rows(results), *people_rows(results),
+            *personalise_rows(results), *accommodation_rows(results)]
+
+
+def fitted(parts: list[str], limit: int = CELL, more: str = "") -> str:
+    """``parts`` joined by "; ", as many as fit in ``limit`` characters, the rest counted in
+    ``more`` (a link to where they are listed)."""
+    text = ""
+    for k, part in enumerate(parts):
+        rest = len(parts) - k - 1
+        tail = f"; and {rest} more {more}" if rest else ""
+        candidate = f"{text}; {part}" if text else part
+        if len(candidate) + len(tail) > limit:
+            return f"{text}; and {len(parts) - k} more {more}" if text else \
+                f"{len(parts)} conditions {more}"
+        text = candidate
+    return text
+
+
+def cells(h: Headline) -> list[str]:
+    """The row's cells: label, the paper, the claim with N and uncertainty, the baseline,
+    what reverses it."""
+    link = "([all](docs/report.md#what-each-headline-rests-on))"
+    return [f"[{h.label}](docs/report.md#{h.anchor})", h.paper,
+            f"{h.claim} ({h.n}; {h.uncertainty})", h.baseline,
+            fitted(list(h.reverses), more=link) if h.reverses else f"none: {h.none_because}"]
+
+
+def readme_table(results: Path) -> list[str]:
+    lines = ["| | the paper | we measured (N; uncertainty) | compared with | reverses or "
+             "vanishes when |", "|---|---|---|---|---|"]
+    lines += ["| " + " | ".join(cells(h)) + " |" for h in headlines(results)]
+    return lines
+
+
+def report_table(results: Path) -> list[str]:
+    """The report's table: each headline with every reversing condition and its files."""
+    lines = ["| headline row | from | N | uncertainty | compared with | reverses or vanishes |",
+             "|---|---|---|---|---|---|"]
+    for h in headlines(results):
+        files = ", ".join(f"`{f}`" for f in h.files)
+        lines.append(f"| {h.label} | {files} | {h.n} | {h.uncertainty} | {h.baseline} | "
+                     f"{'; '.join(h.reverses) or 'none in the results: ' + h.none_because} |")
+    return lines
+
+
+def blocks(results: Path) -> dict[str, str]:
+    return {"headlines": "\n" + "\n".join(readme_table(results)) + "\n",
+            "headline-rules": "\n" + "\n".join(report_table(results)) + "\n"}
+
+
+def main() -> None:
+    """Rewrite the README's headline table and the report's table of headlines."""
+    from common import RESULTS
+
+    rewrite(blocks(RESULTS))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,70 @@
+"""What a practitioner must not miss in a row of workload figures: an action limit exceeded, and
+a figure that sits on a knife edge of a cut-off (a centimetre moves it between a value and 0).
+
+The revised NIOSH equation sets a multiplier to 0 past its reach (H beyond 63 cm, V or D beyond
+175 cm, A beyond 135°), so a location a fraction of a centimetre past H's reach gets a
+recommended weight limit of 0 and one just inside gets a small positive one: both are flagged
+when within :data:`KNIFE_EDGE_CM` of the cut-off. Its lifting index depends on the hands'
+location and the task, not on the body: four manikins at one location share it
+(:data:`LIFTING_INDEX_SCOPE`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from .back import COMPRESSION_LIMITS_N
+from .lifting import UNITS
+
+KNIFE_EDGE_CM = 1.0
+"""How close to a cut-off [cm] a distance is flagged as a knife edge."""
+ASYMMETRY_MAX_DEG = 135.0
+"""The asymmetry beyond which AM is 0."""
+LIFTING_INDEX_SCOPE = ("the lifting index depends on the location and the lifting task only "
+                       "(the equation has no body term)")
+"""How a lifting index is labelled wherever bodies are compared."""
+
+
+def _cut_offs() -> tuple[tuple[str, str, float], ...]:
+    metric = UNITS["metric"]
+    return (("niosh_h_cm", "H", metric.h_max), ("niosh_v_cm", "V", metric.v_max),
+            ("niosh_d_cm", "D", metric.d_max))
+
+
+def flags(row: Mapping) -> list[str]:
+    """Every flag of one row of workload columns (those it has), in words."""
+    found = []
+    for column, name, reach in _cut_offs():
+        value = row.get(column)
+        if value is None or pd.isna(value):
+            continue
+        if abs(value - reach) <= KNIFE_EDGE_CM:
+            side = "past" if value > reach else "inside"
+            found.append(f"knife edge: {name} {value:.2f} cm is {abs(value - reach):.2f} cm "
+                         f"{side} the {reach:g} cm reach (RWL 0 beyond it)")
+    asymmetry = row.get("niosh_a_deg")
+    if asymmetry is not None and not pd.isna(asymmetry) and \
+            abs(asymmetry - ASYMMETRY_MAX_DEG) <= 5:
+        found.append(f"knife edge: A {asymmetry:.1f}° is near the {ASYMMETRY_MAX_DEG:g}° "
+                     "limit (AM 0 beyond it)")
+    li = row.get("niosh_li")
+    if li is not None and not pd.isna(li) and li > 1:
+        found.append(f"lifting index {'inf' if np.isinf(li) else f'{li:.2f}'} over 1")
+    compression = row.get("back_compression_n")
+    if compression is not None and not pd.isna(compression):
+        action, upper = COMPRESSION_LIMITS_N
+        if compression > upper:
+            found.append(f"L5/S1 compression {compression:,.0f} N over NIOSH's "
+                         f"{upper:,.0f} N upper limit")
+        elif compression > action:
+            found.append(f"L5/S1 compression {compression:,.0f} N over NIOSH's "
+                         f"{action:,.0f} N action limit")
+    return found
+
+
+def flag_column(table: pd.DataFrame) -> pd.Series:
+    """Each row's flags joined by "; " ("" where none), for tables and CSVs."""
+    return pd.Series(["; ".join(flags(row)) for row in table.to_dict("records")],
+                     index=table.index, dtype=object)
