@@ -342,8 +342,8 @@ class Cycle(AskTellSearcher):
         self.asked += 1
         return self.ORDER[self.asked - 1]
 
-    def tell(self, cell, score) -> None:
-        self.told.append((cell, score))
+    def tell(self, cell, answer) -> None:  # every answer as an Answer: its score is read
+        self.told.append((cell, answer.score))
 
 
 class Scores(Oracle):

@@ -15,7 +15,7 @@ import pytest
 from synthetic import BOWL, bowl_landscape, flat
 
 from ergohandover.envs import ArrayScores
-from ergohandover.envs.scores import objective_values
+from ergohandover.envs.scores import Answer, objective_values
 from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
 from ergohandover.search import AskTellSearcher, Budget, make, replay, run
@@ -45,8 +45,8 @@ class Scripted(AskTellSearcher):
     def ask(self) -> int:
         return self.cells[len(self.told)]
 
-    def tell(self, cell, score) -> None:
-        self.told.append((cell, score))
+    def tell(self, cell, answer) -> None:
+        self.told.append((cell, answer))
 
 
 SCORES = ArrayScores(GRID, VALUES)
@@ -64,7 +64,28 @@ def test_the_loop_counts_each_cell_once_and_stops_at_the_target():
     assert record.cells == [0, 1, centre] and record.info["asks"] == 4
     assert record.reached_at(5.0) == 3 and record.best == (centre, 5.0)
     assert record.stopped_by == "stop_score"
-    assert searcher.told[1] == (0, float(VALUES[0]))
+    assert searcher.told[1] == (0, Answer(float(VALUES[0])))
+
+
+class WithPosture(ArrayScores):
+    """A landscape whose every answer also carries the posture behind it."""
+
+    def answer(self, flat):
+        return Answer(self.score(flat), "posture", posture={"trunk_flexion": float(flat)})
+
+
+def test_a_searcher_is_told_the_whole_answer_and_a_replay_tells_it_again():
+    source = WithPosture(GRID, VALUES)
+    searcher = make("random-order", GRID, 3)
+    record = run(searcher, source, Budget(evaluations=4))
+    heard = [searcher.heard[c] for c in record.cells]
+    assert [a.posture["trunk_flexion"] for a in heard] == [float(c) for c in record.cells]
+    assert [a.score for a in heard] == record.scores
+    again = replay(make("random-order", GRID, 3), [(c, searcher.heard[c]) for c in record.cells])
+    assert again.heard == searcher.heard
+    # A bare score is an answer of a score alone; NaN is infeasible.
+    scored = replay(make("random-order", GRID, 3), [(record.cells[0], float("nan"))])
+    assert scored.heard[record.cells[0]] == Answer(math.inf)
 
 
 def test_a_searcher_that_keeps_to_known_cells_ends():

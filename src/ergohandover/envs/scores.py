@@ -2,13 +2,16 @@
 
 Both sources answer ``score(flat_index) -> float`` with ``math.inf`` where the location is
 infeasible, and give the same number for the same cell: a landscape is ``evaluate()`` of every
-grid point, and ``evaluate()`` is deterministic and order-independent.
+grid point, and ``evaluate()`` is deterministic and order-independent. What a search is told
+of a cell is an :class:`Answer` (``answer(flat_index)``): the score, and what else the source
+gave with it (the measured posture, how a person gave it).
 """
 
 from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from typing import NamedTuple
 
 import numpy as np
 
@@ -59,6 +62,20 @@ def objective_values(landscape: Landscape, objective: str) -> np.ndarray:
     return np.where(landscape.feasible, total, np.inf)
 
 
+class Answer(NamedTuple):
+    """What a search is told of one handover: the score (``math.inf``: infeasible; a
+    searcher told preferences hears the preference here, :mod:`~..search.preferences`), how
+    it was given (``score``, ``infeasible``, ``posture``, ``twin``, ``preference``), the answer
+    as given (what a session records) and ``posture``, the angles behind it where the answer
+    carried them (a measured posture, a posture row, a captured frame: NaN where unseen; the
+    twin's), for a searcher that fits a twin to them."""
+
+    score: float
+    kind: str = "score"
+    text: str = ""
+    posture: dict[str, float] | None = None
+
+
 class ScoreSource(ABC):
     """The objective at each cell of ``grid`` (flat C-order index, x slowest)."""
 
@@ -70,6 +87,11 @@ class ScoreSource(ABC):
     @abstractmethod
     def score(self, flat: int) -> float:
         """The objective at cell ``flat``; ``math.inf`` if the location is infeasible."""
+
+    def answer(self, flat: int) -> Answer:
+        """What a search is told at cell ``flat``: its score, and what else came with it (a
+        source whose answers carry more overrides this, and its ``score`` reads it)."""
+        return Answer(self.score(flat))
 
 
 class ArrayScores(ScoreSource):

@@ -33,10 +33,10 @@ from __future__ import annotations
 import io
 import math
 import re
-from typing import NamedTuple
 
 import numpy as np
 
+from ..envs.scores import Answer
 from ..ergonomics import ScoringSettings, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS, PostureError
 from ..errors import ConfigError, ErgohandoverError
@@ -81,18 +81,6 @@ def frame_format(text: str, objective: str):
 
 class Refused(ErgohandoverError, ValueError):
     """An answer that is not one; the message is one line naming it and what is allowed."""
-
-
-class Answer(NamedTuple):
-    """A score (``math.inf``: infeasible), how it was given (score, infeasible, posture, twin)
-    and the answer as given (what the session records); ``posture``: the angles behind it, where
-    the answer carried them (a posture row, a captured frame: NaN where unseen; the twin's), for
-    a searcher that fits a twin to them."""
-
-    score: float
-    kind: str
-    text: str
-    posture: dict[str, float] | None = None
 
 
 SCORE_NAMES = {"paper_postural": "paper postural", "reba": "REBA",

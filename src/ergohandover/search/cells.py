@@ -18,10 +18,11 @@ from abc import abstractmethod
 
 import numpy as np
 
+from ..envs.scores import Answer
 from ..errors import ConfigError
 from ..landscape.grid import Grid
 from .prior import Prior
-from .protocol import AskTellSearcher, finite_or_inf
+from .protocol import AskTellSearcher, told
 
 
 def prior_point(grid: Grid, prior: Prior) -> tuple[np.ndarray, np.ndarray]:
@@ -44,6 +45,7 @@ class NewCellSearcher(AskTellSearcher):
         super().__init__(grid, seed, prior)
         self.shape = np.asarray(grid.shape)
         self.told: dict[int, float] = {}  # cell -> score (inf: infeasible)
+        self.heard: dict[int, Answer] = {}  # cell -> the whole answer it was told
         self._pending: int | None = None
 
     @property
@@ -65,16 +67,16 @@ class NewCellSearcher(AskTellSearcher):
             self._pending = int(self._propose())
         return self._pending
 
-    def tell(self, cell: int, score: float) -> None:
+    def tell(self, cell: int, answer: Answer | float) -> None:
         cell = int(cell)
         if cell != self._pending:
             asked = "nothing" if self._pending is None else f"cell {self._pending}"
             raise ConfigError(f"searcher {self.name!r}: told cell {cell}, but it asked for "
                               f"{asked} (tell answers the last ask)")
-        score = finite_or_inf(float(score))
-        self.told[cell] = score
+        answer = told(answer)
+        self.told[cell], self.heard[cell] = answer.score, answer
         self._pending = None
-        self._learn(cell, score)
+        self._learn(cell, answer.score)
 
     @abstractmethod
     def _propose(self) -> int:

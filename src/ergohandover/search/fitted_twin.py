@@ -12,9 +12,9 @@ nearest the prior first), never a cell twice.
 handovers and the candidate twin's angles at the same locations (every angle column of the
 Posture table that was measured; a candidate that could not take the box where the worker did
 scores :data:`MISSING_DEG`² for that handover), when the answers carry the measured posture
-(``last_posture`` of the score source: a posture measured with error, a posture row, a
-captured frame); otherwise — a rater's score — the smallest mean squared difference between the
-answered scores and the candidate's.
+(the ``posture`` the searcher is told with each answer: a posture measured with error, a
+posture row, a captured frame); otherwise — a rater's score — the smallest mean squared
+difference between the answered scores and the candidate's.
 
 The candidates are bodies, not settings: a worker whose twin differs in gaze or effort is fitted
 by the body that mimics it best.
@@ -132,14 +132,10 @@ class FittedTwinSearcher(PriorSearcher):
         if twins is None:
             raise ConfigError("searcher fitted-twin needs candidate twins (a TwinLibrary)")
         self.twins = twins
-        self.source = None  # the score source, whose last_posture each answer carries
-        self.known_postures: list[dict[str, float] | None] = []  # a resumed session's
-        self.postures: list[dict[str, float] | None] = []  # the angles each answer carried
         self.chosen: int | None = None
         self._order: list[int] = []
 
     def search(self, evaluations) -> dict:
-        self.source = evaluations.source
         super().search(evaluations)
         return {"fitted_twin": None if self.chosen is None else self.twins.names[self.chosen]}
 
@@ -162,10 +158,10 @@ class FittedTwinSearcher(PriorSearcher):
         order = np.lexsort((distance, np.where(np.isfinite(values), values, np.inf)))
         return order[::-1].tolist()
 
-    def _learn(self, cell: int, score: float) -> None:
-        k = len(self.postures)
-        self.postures.append(self.known_postures[k] if k < len(self.known_postures)
-                             else getattr(self.source, "last_posture", None))
+    @property
+    def postures(self) -> list[dict[str, float] | None]:
+        """The angles each answer carried, in the order told (None: a score alone)."""
+        return [self.heard[c].posture for c in self.cells]
 
 
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,

@@ -27,7 +27,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
 from contextlib import suppress
 
-from ..envs.scores import ScoreSource
+from ..envs.scores import Answer, ScoreSource
 from ..errors import ConfigError
 from ..landscape.grid import Grid
 from .preferences import PreferenceScores
@@ -50,28 +50,38 @@ def finite_or_inf(score: float) -> float:
     return score if math.isfinite(score) else math.inf
 
 
+def told(answer: Answer | float) -> Answer:
+    """An answer as a searcher is told it: a bare score is an answer of a score alone; NaN and
+    infinities become ``inf`` (infeasible)."""
+    if isinstance(answer, Answer):
+        return answer._replace(score=finite_or_inf(float(answer.score)))
+    return Answer(finite_or_inf(float(answer)))
+
+
 class Evaluations:
-    """The scores a search pays for: each distinct cell once, a repeat from memory for free.
+    """The answers a search pays for: each distinct cell once, a repeat from memory for free.
 
     Args:
-        scores: where a new cell's score comes from (the landscape, the twin, a person).
+        scores: where a new cell's answer comes from (the landscape, the twin, a person).
         budget: evaluations and/or seconds, optional stop score or cells (not steps).
-        known: (cell, score) pairs evaluated before this run (a resumed session's): answered
-            from memory, and counted against the budget.
+        known: (cell, answer or score) pairs evaluated before this run (a resumed session's):
+            answered from memory, and counted against the budget.
         progress: called after every new evaluation.
     """
 
     def __init__(self, scores: ScoreSource, budget: Budget,
-                 known: Iterable[tuple[int, float]] = (), progress: Progress | None = None):
+                 known: Iterable[tuple[int, Answer | float]] = (),
+                 progress: Progress | None = None):
         if budget.steps is not None:
             raise ConfigError("evaluations are counted in evaluations, not steps")
         self.source, self.grid, self.budget = scores, scores.grid, budget
         self.limit = min(budget.evaluations or scores.grid.size, scores.grid.size)
         self.tracker = Tracker(scores.grid.point, budget.stop_score, budget.stop_cells)
-        self.known: dict[int, float] = {}
+        self.known: dict[int, float] = {}  # cell -> score
+        self.heard: dict[int, Answer] = {}  # cell -> the whole answer
         self.asks, self.progress = 0, progress
-        for cell, score in known:
-            self._add(int(cell), finite_or_inf(float(score)))
+        for cell, answer in known:
+            self._add(int(cell), told(answer))
         self.asks = len(self.known)
 
     @property
@@ -94,26 +104,30 @@ class Evaluations:
             return "time_cap"
         return None
 
-    def score(self, cell: int) -> float:
-        """The score at ``cell``: from memory if it was evaluated, else from the source (one
+    def answer(self, cell: int) -> Answer:
+        """The answer at ``cell``: from memory if it was evaluated, else from the source (one
         evaluation); :class:`Spent` once the budget is."""
         if self.stopped_by:
             raise Spent
         self.asks += 1
         cell = int(cell)
-        known = self.known.get(cell)
+        known = self.heard.get(cell)
         if known is not None:
             return known
-        value = finite_or_inf(float(self.source.score(cell)))
-        self._add(cell, value)
+        answer = told(self.source.answer(cell))
+        self._add(cell, answer)
         if self.progress:
             self.progress(self.spent, self.tracker.elapsed())
-        return value
+        return answer
 
-    def _add(self, cell: int, value: float) -> None:
-        self.known[cell] = value
-        if value <= self.tracker.best:
-            self.tracker.offer(self.spent, value, cell)
+    def score(self, cell: int) -> float:
+        """The score at ``cell`` (:meth:`answer`'s), for searchers that hear scores alone."""
+        return self.answer(cell).score
+
+    def _add(self, cell: int, answer: Answer) -> None:
+        self.known[cell], self.heard[cell] = answer.score, answer
+        if answer.score <= self.tracker.best:
+            self.tracker.offer(self.spent, answer.score, cell)
 
     def record(self, searcher: str, info: dict | None = None) -> Record:
         return self.tracker.record(searcher, self.spent, self.stopped_by or "evaluation_cap",
@@ -151,26 +165,29 @@ class Searcher(ABC):
 
 
 class AskTellSearcher(Searcher):
-    """Proposes cells one at a time (:meth:`ask`) and learns from their scores (:meth:`tell`)."""
+    """Proposes cells one at a time (:meth:`ask`) and learns from their answers
+    (:meth:`tell`)."""
 
     @abstractmethod
     def ask(self) -> int:
         """The next flat cell to evaluate."""
 
     @abstractmethod
-    def tell(self, cell: int, score: float) -> None:
-        """The score observed at ``cell`` (``math.inf``: infeasible)."""
+    def tell(self, cell: int, answer: Answer | float) -> None:
+        """The answer observed at ``cell`` (:class:`~..envs.scores.Answer`: its score,
+        ``math.inf`` where infeasible, and what came with it; a bare score is an answer of a
+        score alone)."""
 
     def search(self, evaluations: Evaluations) -> dict:
         while not evaluations.stopped_by:
             cell = int(self.ask())
-            self.tell(cell, evaluations.score(cell))
+            self.tell(cell, evaluations.answer(cell))
         return {}
 
 
 def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
         progress: Progress | None = None,
-        known: Sequence[tuple[int, float]] = ()) -> Record:
+        known: Sequence[tuple[int, Answer | float]] = ()) -> Record:
     """Run ``searcher`` against ``scores`` until ``budget`` is spent or its stop is reached.
 
     Args:
@@ -180,7 +197,7 @@ def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
         budget: in evaluations (every searcher) or steps (agents of the environment only), and
             /or seconds.
         progress: called as ``progress(spent, elapsed_s)`` while it runs.
-        known: (cell, score) of an earlier session, already told to ``searcher``
+        known: (cell, answer or score) of an earlier session, already told to ``searcher``
             (:func:`replay`): answered from memory and counted in the budget.
     """
     if budget.steps is not None or (budget.evaluations is None and searcher.unit == "steps"):
@@ -206,17 +223,19 @@ def told_as(searcher: Searcher, scores: ScoreSource, budget: Budget) -> ScoreSou
     return PreferenceScores(scores)
 
 
-def replay(searcher: AskTellSearcher, history: Sequence[tuple[int, float]]) -> AskTellSearcher:
-    """Tell ``searcher`` an earlier session's answers in order, asking before each as that
-    session did; a proposal that differs from the recorded one means the history is not this
+def replay(searcher: AskTellSearcher,
+           history: Sequence[tuple[int, Answer | float]]) -> AskTellSearcher:
+    """Tell ``searcher`` an earlier session's answers in order (each with what it carried: a
+    searcher that fits a twin hears the postures again), asking before each as that session
+    did; a proposal that differs from the recorded one means the history is not this
     searcher's (another seed, searcher or grid) and is refused.
 
     A proposal of a cell already answered that is not the next entry of ``history`` is
     answered from memory, as :class:`Evaluations` did in that session.
     """
-    known: dict[int, float] = {}
-    for number, (cell, score) in enumerate(history, start=1):
-        cell, score = int(cell), float(score)
+    known: dict[int, Answer] = {}
+    for number, (cell, answer) in enumerate(history, start=1):
+        cell, answer = int(cell), told(answer)
         proposed = searcher.ask()
         while proposed != cell and proposed in known:
             searcher.tell(proposed, known[proposed])
@@ -225,6 +244,6 @@ def replay(searcher: AskTellSearcher, history: Sequence[tuple[int, float]]) -> A
             raise ConfigError(f"history trial {number}: cell {cell} was not proposed by "
                               f"searcher {searcher.name!r} with seed {searcher.seed} (it "
                               f"proposes {proposed}): the state file is not this session's")
-        known[cell] = score
-        searcher.tell(cell, score)
+        known[cell] = answer
+        searcher.tell(cell, answer)
     return searcher

@@ -35,7 +35,7 @@ from typing import Any
 
 import pandas as pd
 
-from ..envs.scores import ScoreSource
+from ..envs.scores import Answer, ScoreSource
 from ..errors import ErgohandoverError
 from ..io.atomic import atomic_write
 from .oracles import Oracle, Proposal
@@ -182,11 +182,13 @@ class Session:
         return {"within_1_of_it": close, "feasible_tried": len(feasible)}
 
     def resume(self, searcher: AskTellSearcher) -> AskTellSearcher:
-        """``searcher`` told this session's history, as it was told the first time (a
-        searcher that fits a twin also the angles each answer carried)."""
-        if hasattr(searcher, "known_postures"):
-            searcher.known_postures = [r.posture for r in self.history]
-        return replay(searcher, [(r.cell, r.score) for r in self.history])
+        """``searcher`` told this session's history, as it was told the first time (each
+        answer with the angles it carried)."""
+        return replay(searcher, self.answers())
+
+    def answers(self) -> list[tuple[int, Answer]]:
+        """(cell, answer) of every trial of the history, in order, as the searcher heard it."""
+        return [(r.cell, Answer(r.score, posture=r.posture)) for r in self.history]
 
     def add(self, record: Trial) -> None:
         """Record an answer and save the state (atomically: the file is whole, old or new)."""
@@ -225,11 +227,14 @@ class AnsweredScores(ScoreSource):
     the searcher hears it (an interruption in between loses nothing)."""
 
     def __init__(self, session: Session, oracle: Oracle, grid, objective: str, budget: int,
-                 say: Callable[[str], None]):
+                 say: Callable[[str], None], answers: str = "scores"):
         self.session, self.oracle, self.grid, self.objective = session, oracle, grid, objective
-        self.budget, self.say = budget, say
+        self.budget, self.say, self.answers = budget, say, answers
 
     def score(self, flat: int) -> float:
+        return self.answer(flat).score
+
+    def answer(self, flat: int) -> Answer:
         location = tuple(round(v, 9) for v in self.grid.point(flat))
         before = next((t for t in reversed(self.session.trials) if math.isfinite(t.score)), None)
         proposal = Proposal(len(self.session.trials) + 1, self.budget, flat, location,
@@ -238,10 +243,9 @@ class AnsweredScores(ScoreSource):
         self.say(proposal.describe())
         answer = self.oracle.answer(proposal)
         self.session.posture_header = self.oracle.header
-        self.last_posture = answer.posture
         self.session.add(Trial(proposal.trial, flat, location, answer.score, answer.text,
                                now(), answer.posture))
-        return answer.score
+        return answer
 
 
 ENDINGS = {"evaluation_cap": "budget", "stop_score": "target", "grid": "grid",
@@ -266,9 +270,9 @@ def run(session: Session, searcher: AskTellSearcher, oracle: Oracle, budget: int
         ``budget``, ``target`` (reached), ``grid`` (every location tried) or ``searcher`` (it
         kept proposing known locations).
     """
+    # The oracle answers as the searcher is told (scores, or preferences).
     scores = AnsweredScores(session, oracle, searcher.grid, session.settings.get("objective"),
-                            budget, say)
-    scores.answers = searcher.answers  # the oracle answers as the searcher is told
+                            budget, say, answers=searcher.answers)
     record = run_search(searcher, scores, Budget(evaluations=budget, stop_score=target),
-                        known=[(r.cell, r.score) for r in session.history])
+                        known=session.answers())
     return ENDINGS[record.stopped_by]

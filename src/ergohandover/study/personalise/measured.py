@@ -11,8 +11,8 @@ scores exactly.
 
 The postures are solved when a cell is first asked for, in aligned cubes of ``block``³ cells
 (as :class:`~ergohandover.envs.scores.OnlineScores`), and kept. Measuring them is vectorised
-scoring of one posture. The angles measured at the last handover are ``last_posture`` (what a
-searcher that fits a twin to the worker reads: :mod:`.fitted_twin`).
+scoring of one posture. Each answer carries the angles measured at that handover (what a
+searcher that fits a twin to the worker reads: :mod:`~ergohandover.search.fitted_twin`).
 
 A rater watching the handover gives its score directly (:class:`RatedScores`): the worker's
 error-free score plus a Gaussian error, rounded to a whole score (a rater writes whole scores)
@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from ...envs.scores import ScoreSource
+from ...envs.scores import Answer, ScoreSource
 from ...ergonomics import Posture, score_postures
 from ...ergonomics.posture import POSTURE_COLUMNS
 from ...errors import ConfigError
@@ -66,19 +66,21 @@ class MeasuredScores(ScoreSource):
         self.grid, self.evaluator, self.objective = grid, evaluator, objective
         self.model, self.rng, self.block = model, rng, block
         self.measurements = 0  # handovers measured so far
-        self.last_posture: dict[str, float] | None = None  # the angles the last one measured
         self._postures = {} if postures is None else postures  # None: infeasible
 
     def score(self, flat: int) -> float:
+        return self.answer(flat).score
+
+    def answer(self, flat: int) -> Answer:
+        """The score measured at cell ``flat`` with the angles measured (one handover)."""
         posture = self.posture(flat)
         self.measurements += 1
-        self.last_posture = None
         if posture is None:
-            return math.inf  # nobody measures a handover the worker cannot take
+            return Answer(math.inf, "infeasible")  # nobody measures what cannot be taken
         measured = perturbed(Posture({c: np.array([v]) for c, v in posture.items()}),
                              self.model, 1, self.rng)
-        self.last_posture = angles_of(measured)
-        return float(score_postures(measured, self.evaluator.scoring)[self.objective][0])
+        score = float(score_postures(measured, self.evaluator.scoring)[self.objective][0])
+        return Answer(score, "posture", posture=angles_of(measured))
 
     def posture(self, flat: int) -> dict[str, float] | None:
         """The twin's error-free posture at cell ``flat`` (None where it cannot take the
