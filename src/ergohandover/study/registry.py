@@ -30,8 +30,8 @@ class Question:
             manifest with their settings).
         writes: each file (or ``folder/``) it writes into ``results/<name>/``, with the columns
             another question or its headline reads from it (``()``: none is read elsewhere).
-        budget_s: its declared wall time on 2 cores [s] (``run_all`` prints its time against
-            it; the committed times must sum within the study's).
+        budget_s: its declared wall time on 2 cores [s], landscapes already in the cache
+            (``run_all`` prints its time against it; a committed part over it fails a test).
         headline: whether it answers README headline rows (declared under its name in
             experiments/analysis/headlines.py: claim, N, uncertainty, baseline, reversals).
         figure: its figure script in experiments/analysis/, or "".
