@@ -143,7 +143,7 @@ def test_the_workforce_row_gives_an_exact_interval_and_reads_measurement_as_agre
     assert f"{suited:,} of {n:,} workers" in text
     if suited == n:
         assert "100–100" not in text and "exact 95 % 99.6 %–100 %" in text
-    assert f"agrees for {headlines.pct(rec['measured_share'])}" in text
+    assert f"agrees in {headlines.pct(rec['measured_share'])} of measurements" in text
     assert f"misclassifies {headlines.pct(1 - rec['measured_share'])}" in text
     assert "the error-free score" in text
 

@@ -312,7 +312,6 @@ def personalise_rows(results: Path) -> list[Headline]:
     budget = personalise_tables.equal_budget(measured)
     answers = personalise_tables.HEADLINE_ANSWERS
     inside = personalise_tables.own_rule(measured[measured["model"] == "in-model"])
-    outside = measured[measured["model"] == "out-of-model"]
     best = personalise_tables.best_measured(inside[inside["searcher"] != "random-order"],
                                             "in-model", answers, budget)
     prior = inside[(inside["searcher"] == "prior") & (inside["answers"] == answers)]
@@ -328,9 +327,8 @@ def personalise_rows(results: Path) -> list[Headline]:
         f"95 % {pct(best['ci_low'])}–{pct(best['ci_high'])}",
         f"no search, the prior's ranking ({int(once['budget'])} handovers, its fewest): "
         f"{pct(once['p_regret_0'])} ({pct(once['ci_low'])}–{pct(once['ci_high'])})",
-        (f"the best's interval overlaps the prior's: no searcher is shown to beat not "
-         f"searching; for {int(outside['n_workers'].max())} workers whose twin differs from "
-         "the prior's",), "", ("personalise/measured_summary.csv",))]
+        ("the best's interval overlaps the prior's: no searcher is shown to beat not "
+         "searching",), "", ("personalise/measured_summary.csv",))]
 
 
 def accommodation_rows(results: Path) -> list[Headline]:
@@ -345,9 +343,10 @@ def accommodation_rows(results: Path) -> list[Headline]:
         "accommodation", "a workforce's zone", "the-practitioners-outputs", "not studied",
         f"error-free, REBA ≤ 3 and RULA ≤ 4 hold at the recommended location for {suited:,} of "
         f"{n:,} workers; " + (
-            f"one IMU-like measurement agrees for {pct(rec['measured_share'])} of them "
-            f"(misclassifies {pct(1 - rec['measured_share'])})" if suited == n else
-            f"one IMU-like measurement passes a worker in {pct(rec['measured_share'])}"),
+            f"one IMU-like measurement agrees in {pct(rec['measured_share'])} of "
+            f"measurements (misclassifies {pct(1 - rec['measured_share'])})" if suited == n
+            else f"one IMU-like measurement passes a worker in {pct(rec['measured_share'])} of "
+            "measurements"),
         f"N = {n:,} workers", f"exact 95 % {pct(low)}–{pct(high)}",
         "the error-free score", (f"as measured, no point serves {pct(measured['share'])} of "
                                   f"the workforce (the best {pct(measured['best_share'])})",)
