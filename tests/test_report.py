@@ -42,12 +42,37 @@ def test_report_generated_blocks_are_the_committed_results():
             **capture_tables.blocks(ROOT / "results"),
             **people_tables.blocks(ROOT / "results")}
     for name, block in made.items():
-        if name not in ("learning-claim", "learning-learns", "robustness-headline",
-                        "personalise-headline", "stance-headline",  # the README's headline table
-                        "capture-claim",  # and its paragraph on captured postures
-                        "people-headline"):
+        if name != "capture-claim":  # the README's paragraph on captured postures
             assert readme_blocks.where(name) == REPORT_PATH, name
         assert readme_blocks.block(name) == block, name
+
+
+def test_neither_page_reads_a_measured_share_or_a_post_hoc_test_as_something_else():
+    """The wording the results allow: a share of measurements agrees under an IMU-like error
+    model (not "as an IMU system would measure them"), the who-pays tests were planned after
+    the straight-line result (not pre-specified), and a sex effect is an interval."""
+    for page in (REPORT, (ROOT / "README.md").read_text()):
+        text = " ".join(page.split())
+        for wrong in ("as an IMU system would measure", "measured as an IMU system measures",
+                      "pre-specified", "as planned", "rather than sex", "(100–100 %)"):
+            assert wrong.lower() not in text.lower(), wrong
+    assert "post hoc" in REPORT and "IMU-like error model" in REPORT
+
+
+def test_every_action_limit_exceeded_and_knife_edge_is_flagged_in_the_manikins_table():
+    from ergohandover.workload.flags import KNIFE_EDGE_CM, LIFTING_INDEX_SCOPE
+
+    table = pd.read_csv(ROOT / "results" / "manikins" / "manikins.csv")
+    block = " ".join(readme_blocks.block("manikins-table").split())
+    assert LIFTING_INDEX_SCOPE in block
+    over = table[table["back_compression_n"] > 3400]
+    assert len(over), "the results hold an exceedance; this test would pass vacuously"
+    for value in over["back_compression_n"]:
+        assert f"L5/S1 compression {value:,.0f} N over NIOSH's 3,400 N action limit" in block
+    edge = table[(table["niosh_h_cm"] - 63).abs() <= KNIFE_EDGE_CM]
+    assert len(edge)
+    for value in edge["niosh_h_cm"].unique():
+        assert f"knife edge: H {value:.2f} cm" in block
 
 
 def test_rewrite_replaces_each_block_in_the_page_that_holds_it(tmp_path):
