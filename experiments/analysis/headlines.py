@@ -32,10 +32,6 @@ MINIMUM_VARIANTS = {
                                                 "holds)"}
 """The sensitivity variants whose minimum differs from the default's, as the row names them."""
 
-ERROR_MODEL = ("an IMU-like error model (4 of its 15 SDs from Schall et al. 2016; the other 11, "
-               "every correlation and the zero biases assumed)")
-"""What the rows read "as measured" against: which parts of the model are measured."""
-
 
 @dataclass(frozen=True)
 class Headline:

@@ -1,7 +1,7 @@
 """The study's questions: one folder each (``study/<name>/``: its config section, its
 computation and its ``part.py``), and one entry here that declares what the question
 **needs** (the questions whose results it reads), what it **writes** (its files, and the columns
-other questions and its headline read), whether it has a **headline** (README rows declared in
+other questions read), whether it has a **headline** (README rows declared in
 experiments/analysis/headlines.py) and its time **budget** on 2 cores.
 
 ``experiments/run_all.py`` orders the questions from ``needs`` (:func:`run_order`); no part
@@ -29,7 +29,7 @@ class Question:
         needs: the questions whose results it reads (run before it, and hashed into its
             manifest with their settings).
         writes: each file (or ``folder/``) it writes into ``results/<name>/``, with the columns
-            another question or its headline reads from it (``()``: none is read elsewhere).
+            another question reads from it (``()``: no other question reads it).
         budget_s: its declared wall time on 2 cores [s], landscapes already in the cache
             (``run_all`` prints its time against it; a committed part over it fails a test).
         headline: whether it answers README headline rows (declared under its name in
