@@ -33,7 +33,8 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
     monkeypatch.setenv("ERGOHANDOVER_CACHE", str(cache))
     command = [sys.executable, str(ROOT / "experiments" / "run_all.py"), "--quick",
                "--results", str(results), "--figures", str(figures)]
-    first = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    # The timeouts guard against a hang, not a time target (a shared machine's speed varies).
+    first = subprocess.run(command, capture_output=True, text=True, timeout=1800)
     assert first.returncode == 0, first.stderr[-2000:]
     for part in ("landscape", "learning", "baselines", "ablations", "participants",
                  "population"):
