@@ -1,7 +1,7 @@
 """Figure: does the recommendation survive being measured? (a) each headline location's expected
-paper score against the SD of the posture-measurement error, and under an IMU's measured
-error; (b) the expected paper score under the robust optimum's SD in the plane x = 0
-(the screened cells), with the nominal and robust optima; (c) which item scores of the nominal
+paper score against the SD of the posture-measurement error, and under an IMU-like error
+model (4 of its 15 SDs measured, the rest assumed); (b) the expected paper score under the
+robust optimum's SD in the plane x = 0 (the screened cells), with the nominal and robust optima; (c) which item scores of the nominal
 optimum change under error, and how often; (d) the regret of the recommendations over the model
 variants and the workers. Reads results/robustness/."""
 
@@ -55,8 +55,8 @@ def expected_against_sd(ax, locations, measured) -> None:
             row = imu[imu["location"] == name]
             if len(row):
                 ax.plot([x], row["mean"], "D", color=colour, ms=5)
-        ax.set_xticks([*sds, x], [f"{sd:g}" for sd in sds] + ["IMU,\nmeasured"])
-    ax.set_xlabel("posture-measurement error, SD of every angle [deg]; an IMU's measured error")
+        ax.set_xticks([*sds, x], [f"{sd:g}" for sd in sds] + ["IMU-\nlike"])
+    ax.set_xlabel("posture-measurement error, SD of every angle [deg]; an IMU-like error model")
     ax.set_ylabel("expected paper score")
     draws = int(paper["draws"].iloc[0])
     ax.set_title(f"(a) expected score under error (N = {draws:,} draws per point)", fontsize=9)

@@ -35,11 +35,12 @@ def kept(rows) -> str:
 
 
 REVERSAL_SCORES = {"paper_postural": "paper score", "reba": "REBA", "rula": "RULA"}
-MODEL_PHRASES = {MEASURED: "with the IMU's error",
-                 "IMU, uncorrelated": "with the IMU's error uncorrelated",
-                 "IMU, SDs ×0.5": "with the IMU's SDs halved",
-                 "IMU, SDs ×1.5": "with the IMU's SDs ×1.5"}
-"""How a reversing condition names each measured error model."""
+MODEL_PHRASES = {MEASURED: "with the IMU-like error",
+                 "IMU, uncorrelated": "with the IMU-like error uncorrelated",
+                 "IMU, SDs ×0.5": "with the IMU-like SDs halved",
+                 "IMU, SDs ×1.5": "with the IMU-like SDs ×1.5"}
+"""How a reversing condition names each IMU-like error model (4 of its 15 SDs measured, the
+rest of it assumed: results/robustness/measured_error.csv says which)."""
 
 
 def _listed(items: list[str]) -> str:

@@ -81,9 +81,9 @@ def add_parser(subparsers) -> None:
                         help="the angle error's standard deviation [deg], >= 0; one or more "
                         f"values (default: {defaults.ANGLE_SD:g})")
     parser.add_argument("--measured-error", action="store_true",
-                        help="score under an IMU's measured error per joint (bias, SD, "
-                        "correlations) instead of --angle-sd; angle_sd_deg is then empty and "
-                        "structure names the model")
+                        help="score under an IMU-like error model per joint (bias, SD, "
+                        "correlations; 4 of its 15 SDs measured, the rest assumed) instead of "
+                        "--angle-sd; angle_sd_deg is then empty and structure names the model")
     parser.add_argument("--structure", type=choice(STRUCTURES), default=None,
                         metavar="|".join(STRUCTURES), help="independent errors, or one error "
                         f"for both sides of each paired angle (default: {STRUCTURES[0]})")
