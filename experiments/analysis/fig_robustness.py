@@ -1,9 +1,9 @@
 """Figure: does the recommendation survive being measured? (a) each headline location's expected
-paper score against the SD of the posture-measurement error, and under an IMU-like error
-model (4 of its 15 SDs measured, the rest assumed); (b) the expected paper score under the
-robust optimum's SD in the plane x = 0 (the screened cells), with the nominal and robust optima; (c) which item scores of the nominal
-optimum change under error, and how often; (d) the regret of the recommendations over the model
-variants and the workers. Reads results/robustness/."""
+paper score against the SD of the posture-measurement error, and under an IMU-like error model
+(4 of its 15 SDs measured, the rest assumed); (b) the expected paper score under the robust
+optimum's SD in the plane x = 0 (the screened cells), with the nominal and robust optima; (c)
+which item scores of the nominal optimum change under error, and how often; (d) the regret of
+the recommendations over the model variants and the workers. Reads results/robustness/."""
 
 from __future__ import annotations
 
