@@ -10,7 +10,7 @@ import pytest
 
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.engines import Engine
-from ergohandover.study.registry import part
+from ergohandover.study.registry import part, run_order
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMING = ["elapsed_s", "steps_per_s"]  # wall-clock figures: the only columns that may differ
@@ -28,8 +28,8 @@ def test_the_learning_part_on_ray_repeats_the_local_pool(tmp_path, monkeypatch):
     for name in ("local", "ray"):
         engine = Engine(name, 2)
         results = tmp_path / name
-        with engine.session():
-            assert part("learning").run(config, results, engine)
+        with engine.session():  # the learning part after the landscape part it reads
+            assert all(part(p).run(config, results, engine) for p in run_order(["learning"]))
         tables[name] = {table: pd.read_csv(results / "learning" / f"{table}.csv")
                         for table in ("runs", "summary", "found", "targets")}
         tables[name]["stats"] = pd.read_csv(results / "landscape" / "stats.csv")
