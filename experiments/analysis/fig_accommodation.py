@@ -1,8 +1,8 @@
-"""Figure: an accommodation zone for handover risk. (a) the share of the workforce whose posture
-is acceptable (REBA and RULA within limits) at each location of the plane x = 0, error-free,
-with the zone that serves the stated share; (b) the same as an IMU system would measure it;
-(c) the share at each headline location, both ways, with 95 % bootstrap intervals over workers.
-Reads results/accommodation/."""
+"""Figure: an accommodation zone for handover risk. (a) the share of the workforce whose posture is
+acceptable (REBA and RULA within limits) at each location of the plane x = 0, error-free, with
+the zone that serves the stated share; (b) the same as one measurement under an IMU-like error
+model would judge it; (c) the share at each headline location, both ways, with 95 % bootstrap
+intervals over workers. Reads results/accommodation/."""
 
 from __future__ import annotations
 
@@ -48,7 +48,7 @@ def main() -> None:
     share_panel(axes[0], cells, "exact_share", share, recommended,
                 f"(a) suited, error-free (white: {share:.0%} of workers)")
     image = share_panel(axes[1], cells, "measured_share", share, recommended,
-                        "(b) suited, as an IMU measures it")
+                        "(b) suited, as one IMU-like measurement judges it")
     fig.colorbar(image, ax=axes[1], shrink=0.9, label="share of the workforce suited")
     ax = axes[2]
     order = np.arange(len(at))
@@ -57,7 +57,7 @@ def main() -> None:
                     xerr=[at[f"{kind}_share"] - at[f"{kind}_low"],
                           at[f"{kind}_high"] - at[f"{kind}_share"]],
                     fmt="o", color=colour, ms=4, label="error-free" if kind == "exact"
-                    else "as measured (IMU)")
+                    else "one IMU-like measurement")
     ax.axvline(share, color="grey", ls="--", lw=1)
     ax.set_yticks(order, at["location"], fontsize=7)
     ax.invert_yaxis()
@@ -69,8 +69,10 @@ def main() -> None:
                  f"{part['rula_max']} for N = {workers:,} workers of the ANSUR II body model, "
                  f"every {100 * part['step']:g} cm", fontsize=10)
     caption(fig, f"Each worker's twin solved at every grid point; measured {part['draws']} times "
-            "per point under the IMU error model (Schall et al. 2016; the same draws at every "
-            "point of a worker). Intervals: percentile bootstrap over workers "
+            "per point under the IMU-like error model (4 of its 15 SDs from Schall et al. 2016, "
+            "the rest assumed; the same draws at every point of a worker). Error-free shares "
+            "of workers; as measured, the mean share of measurements that pass a worker. "
+            "Intervals: percentile bootstrap over workers "
             f"({part['bootstrap']:,} resamples). Error-free, {int(zone.loc['exact', 'cells'])} "
             f"points serve {share:.0%}; as measured, "
             f"{int(zone.loc['measured', 'cells'])} (the best serves "

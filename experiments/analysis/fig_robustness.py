@@ -131,9 +131,9 @@ def main() -> None:
     fig.tight_layout()
     caption(fig, "Every measured angle of the twin's posture carries independent Gaussian "
             "error of the SD shown (the robustness part's configuration), or (diamonds, right of "
-            "panel a) an IMU system's measured error per joint, biased and correlated (Schall "
-            "et al. 2016 and stated assumptions); scores are REBA's, RULA's and the paper's "
-            "own. Regret is against each variant's or worker's own grid optimum.")
+            "panel a) an IMU-like error model per joint, biased and correlated (4 of its 15 SDs "
+            "from Schall et al. 2016, the rest of it assumed); scores are REBA's, RULA's and the "
+            "paper's own. Regret is against each variant's or worker's own grid optimum.")
     save(fig, "robustness.png")
 
 
