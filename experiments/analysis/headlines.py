@@ -153,7 +153,7 @@ def learning_rows(results: Path) -> list[Headline]:
                  "the-learning-study-can-the-learners-be-told-apart",
                  "Q-learning learns where to hand over",
                  f"Q-learning beats a random walk in {better} of {len(walk)} comparisons and "
-                 f"random draws in {better_draws} (worse in {worse_draws})",
+                 f"random draws in {better_draws} of {len(drawn)} (worse in {worse_draws})",
                  f"{int(walk['n'].min())} paired runs each", "Holm-corrected",
                  "a random walk; random draws",
                  (f"in {ceiling} both reach the target in all but at most one run, a ceiling "
@@ -189,11 +189,12 @@ def robot_rows(results: Path) -> list[Headline]:
                  "the box moves freely in Unity",
                  f"two Panda arms on a lift and base carry the box clear of the worker: "
                  f"{int(baselines['robot_feasible'].sum())} of {len(baselines)} carries, "
-                 f"{int(others['robot_feasible'].sum())} of {len(others)} more starts",
+                 f"{int(others['robot_feasible'].sum())} of {len(others)} more starts; it holds "
+                 f"the box at {int(reach['held']):,} of {int(reach['locations']):,} grid "
+                 "locations",
                  f"{len(baselines) + len(others)} carries",
-                 "seeded planner, one plan each",
-                 f"a box that moves itself (the paper); held at {int(reach['held']):,} of "
-                 f"{int(reach['locations']):,} grid locations", (), "no carry or hold failed",
+                 "seeded planner, one plan each", "a box that moves itself (the paper)", (),
+                 "no carry or hold failed",
                  ("baselines/baselines.csv", "baselines/other_starts.csv",
                   "baselines/reachability_summary.csv")),
     ]
