@@ -21,6 +21,7 @@ import stance_tables
 from learning_tables import CEILING, verdicts
 from population_tables import planned_sex
 from readme_blocks import rewrite
+from stance_tables import span
 
 CELL = 250
 """The most characters a README cell holds; the rest is in the report, one link away."""
@@ -80,17 +81,13 @@ def pct(value: float) -> str:
     return f"{text} %"
 
 
-def stepping_counts(results: Path) -> dict[str, int]:
-    """How many of the default worker's starts the optimised location still beats once the
-    worker may step, per score (stance/headline.csv)."""
+def beaten_starts(results: Path, stance: str = "step") -> dict[str, int]:
+    """How many of the default worker's starts the optimised location beats the
+    shortest-distance one from, per score, when the worker stands as ``stance`` says (``step``:
+    may step; ``fixed``: planted; stance/headline.csv)."""
     head = pd.read_csv(results / "stance" / "headline.csv")
-    mine = head[(head["optimised_location"] == "optimised") & (head["stance"] == "step")]
+    mine = head[(head["optimised_location"] == "optimised") & (head["stance"] == stance)]
     return {s: int(rows["beats"].sum()) for s, rows in mine.groupby("score")}
-
-
-def span(values) -> str:
-    low, high = int(min(values)), int(max(values))
-    return str(low) if low == high else f"{low}–{high}"
 
 
 def landscape_rows(results: Path) -> list[Headline]:
@@ -169,7 +166,7 @@ def robot_rows(results: Path) -> list[Headline]:
     robust = pd.read_csv(results / "robustness" / "comparisons.csv")
     measured = pd.read_csv(results / "robustness" / "measured_comparisons.csv")
     clauses = tuple(robustness_verdicts.reversal_clauses(robust, {"comparisons": measured}))
-    step = stepping_counts(results)
+    step = beaten_starts(results)
     starts = len(baselines[["start_x", "start_y", "start_z"]].drop_duplicates())
     opt = baselines[baselines["method"] == "optimised"]
     near = baselines[baselines["method"] == "shortest_distance"]
@@ -267,11 +264,9 @@ def robustness_rows(results: Path) -> list[Headline]:
 
 
 def stance_rows(results: Path) -> list[Headline]:
-    step = stepping_counts(results)
+    step, kept = beaten_starts(results), beaten_starts(results, "fixed")
     head = pd.read_csv(results / "stance" / "headline.csv")
     starts = head[(head["optimised_location"] == "optimised")]["start"].nunique()
-    planted = head[(head["optimised_location"] == "optimised") & (head["stance"] == "fixed")]
-    kept = {s: int(g["beats"].sum()) for s, g in planted.groupby("score")}
     return [Headline(
         "stance", "a worker who steps", "a-worker-who-can-step", "the worker's feet stay planted",
         f"once the worker may step, the optimum still beats shortest distance on the paper score "

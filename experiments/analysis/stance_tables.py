@@ -22,7 +22,8 @@ def _read(results: Path) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame, dict
             json.loads((folder / "manifest.json").read_text()))
 
 
-def _span(values) -> str:
+def span(values) -> str:
+    """``4`` or ``2–7``: the range of whole values as the tables write it."""
     low, high = int(min(values)), int(max(values))
     return f"{low}" if low == high else f"{low}–{high}"
 
@@ -46,9 +47,9 @@ def headline(results: Path) -> str:
     parts = [f"when the worker may step toward the box, the optimised location "
              f"({int(step['optimised'].iloc[0])}) beats the shortest-distance one from "
              f"{int(step['beats'].sum())} of {len(step)} starts on the paper score ("
-             f"{_span(step['shortest_distance'])} there, after a step of "
-             f"{_span(100 * far['step_m'])} cm; planted "
-             f"{_span(paper.loc['fixed', 'shortest_distance'])}), and from "
+             f"{span(step['shortest_distance'])} there, after a step of "
+             f"{span(100 * far['step_m'])} cm; planted "
+             f"{span(paper.loc['fixed', 'shortest_distance'])}), and from "
              f"{int(survives.sum()['step'])} of {int(survives.count()['step'])} at "
              f"{ERROR_SD:g}° of posture error (95 % Monte Carlo intervals; planted "
              f"{int(survives.sum()['fixed'])}); but on "

@@ -77,8 +77,7 @@ class Evaluations:
         self.source, self.grid, self.budget = scores, scores.grid, budget
         self.limit = min(budget.evaluations or scores.grid.size, scores.grid.size)
         self.tracker = Tracker(scores.grid.point, budget.stop_score, budget.stop_cells)
-        self.known: dict[int, float] = {}  # cell -> score
-        self.heard: dict[int, Answer] = {}  # cell -> the whole answer
+        self.known: dict[int, Answer] = {}  # cell -> its answer, in the order evaluated
         self.asks, self.progress = 0, progress
         for cell, answer in known:
             self._add(int(cell), told(answer))
@@ -111,7 +110,7 @@ class Evaluations:
             raise Spent
         self.asks += 1
         cell = int(cell)
-        known = self.heard.get(cell)
+        known = self.known.get(cell)
         if known is not None:
             return known
         answer = told(self.source.answer(cell))
@@ -125,14 +124,15 @@ class Evaluations:
         return self.answer(cell).score
 
     def _add(self, cell: int, answer: Answer) -> None:
-        self.known[cell], self.heard[cell] = answer.score, answer
+        self.known[cell] = answer
         if answer.score <= self.tracker.best:
             self.tracker.offer(self.spent, answer.score, cell)
 
     def record(self, searcher: str, info: dict | None = None) -> Record:
         return self.tracker.record(searcher, self.spent, self.stopped_by or "evaluation_cap",
                                    "evaluations", {"asks": self.asks, **(info or {})},
-                                   cells=list(self.known), scores=list(self.known.values()))
+                                   cells=list(self.known),
+                                   scores=[a.score for a in self.known.values()])
 
 
 class Searcher(ABC):

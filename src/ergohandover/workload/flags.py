@@ -16,27 +16,26 @@ import numpy as np
 import pandas as pd
 
 from .back import COMPRESSION_LIMITS_N
-from .lifting import UNITS
+from .lifting import A_MAX_DEG, UNITS
 
 KNIFE_EDGE_CM = 1.0
 """How close to a cut-off [cm] a distance is flagged as a knife edge."""
-ASYMMETRY_MAX_DEG = 135.0
-"""The asymmetry beyond which AM is 0."""
+KNIFE_EDGE_DEG = 5.0
+"""How close to the asymmetry's cut-off [deg] an angle is flagged as a knife edge."""
 LIFTING_INDEX_SCOPE = ("the lifting index depends on the location and the lifting task only "
                        "(the equation has no body term)")
 """How a lifting index is labelled wherever bodies are compared."""
 
 
-def _cut_offs() -> tuple[tuple[str, str, float], ...]:
-    metric = UNITS["metric"]
-    return (("niosh_h_cm", "H", metric.h_max), ("niosh_v_cm", "V", metric.v_max),
-            ("niosh_d_cm", "D", metric.d_max))
+CUT_OFFS = (("niosh_h_cm", "H", UNITS["metric"].h_max), ("niosh_v_cm", "V", UNITS["metric"].v_max),
+            ("niosh_d_cm", "D", UNITS["metric"].d_max))
+"""The distances of the equation whose multiplier is 0 past a reach [cm]: column, name, reach."""
 
 
 def flags(row: Mapping) -> list[str]:
     """Every flag of one row of workload columns (those it has), in words."""
     found = []
-    for column, name, reach in _cut_offs():
+    for column, name, reach in CUT_OFFS:
         value = row.get(column)
         if value is None or pd.isna(value):
             continue
@@ -46,8 +45,8 @@ def flags(row: Mapping) -> list[str]:
                          f"{side} the {reach:g} cm reach (RWL 0 beyond it)")
     asymmetry = row.get("niosh_a_deg")
     if asymmetry is not None and not pd.isna(asymmetry) and \
-            abs(asymmetry - ASYMMETRY_MAX_DEG) <= 5:
-        found.append(f"knife edge: A {asymmetry:.1f}° is near the {ASYMMETRY_MAX_DEG:g}° "
+            abs(asymmetry - A_MAX_DEG) <= KNIFE_EDGE_DEG:
+        found.append(f"knife edge: A {asymmetry:.1f}° is near the {A_MAX_DEG:g}° "
                      "limit (AM 0 beyond it)")
     li = row.get("niosh_li")
     if li is not None and not pd.isna(li) and li > 1:

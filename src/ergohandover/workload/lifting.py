@@ -99,6 +99,10 @@ def frequency_multiplier(frequency: np.ndarray, duration: str,
     return out
 
 
+A_MAX_DEG = 135.0
+"""The asymmetry angle beyond which AM is 0 (in either system of units) [deg]."""
+
+
 class Units(NamedTuple):
     """The equation's constants in one system of units (manual, p. 7): load constant; H's floor
     and the reach beyond which HM is 0; V's optimum, slope and reach; D's floor, numerator and
@@ -140,7 +144,7 @@ def multipliers(h, v, d, a_deg, frequency, duration: str, coupling: np.ndarray,
     hm = np.where(h <= u.h_max, u.h_min / np.maximum(h, u.h_min), 0.0)
     vm = np.where(v <= u.v_max, 1.0 - u.v_slope * np.abs(v - u.v_optimum), 0.0)
     dm = np.where(d <= u.d_max, 0.82 + u.d_numerator / np.maximum(d, u.d_min), 0.0)
-    am = np.where(a <= 135.0, 1.0 - 0.0032 * a, 0.0)
+    am = np.where(a <= A_MAX_DEG, 1.0 - 0.0032 * a, 0.0)
     low = v < u.v_column
     fm = frequency_multiplier(f, duration, low)
     coupling = np.asarray(coupling)

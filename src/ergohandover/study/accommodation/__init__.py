@@ -1,3 +1,4 @@
 """Study question ``accommodation``: where REBA and RULA stay low for a workforce.
 
-Its entry in :mod:`..registry` declares what it needs, writes, answers and may take."""
+Its entry in :mod:`..registry` declares what it needs, what it writes, whether it has a
+headline and its time budget."""

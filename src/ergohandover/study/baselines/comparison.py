@@ -104,7 +104,7 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
             location: np.ndarray | None = None,
             executor: Executor | None = None) -> Comparison:
     """Both handover locations for every start: the twin's scores there and the robot's
-    planned carry of the box there (:mod:`..scene.planner`).
+    planned carry of the box there (:mod:`...scene.planner`).
 
     Args:
         starts: (S, 3) start points of the box, worker frame [m].
@@ -126,7 +126,7 @@ def compare(starts: np.ndarray, landscape: Landscape, evaluator: Evaluator | Non
         location), the Evaluation columns at the location (``feasible``, ``reason``, every
         score, ...), ``paper_postural_paper`` (the paper's number, NaN for other starts),
         ``robot_feasible`` (0/1: the carry was planned), ``robot_reason`` (empty, or why not:
-        one of :data:`~..scene.planner.PLAN_REASONS` and what failed), ``robot_handover``
+        one of :data:`~...scene.planner.PLAN_REASONS` and what failed), ``robot_handover``
         (0/1: the robot can hold the box at the location), ``planning_s``, ``path_length_m``
         (the box's path), ``waypoints``, ``clearance_m`` (the robot's smallest distance to the
         worker along the carry), ``checks`` (robot poses checked), ``grasp`` (approach yaw in

@@ -1,6 +1,6 @@
 """The baselines' files beside their table: a path CSV per planned carry, and pictures (a PNG per
 start and location, a contact sheet, a GIF per planned carry). The ``baseline`` command and the
-study's baselines part both write them from a :class:`~.baselines.Comparison`."""
+study's baselines part both write them from a :class:`~.comparison.Comparison`."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from ...twin.evaluate import Evaluator
 
 def write_paths(result, evaluator: Evaluator, robot: RobotSpec, folder: Path) -> list[Path]:
     """A path CSV per planned carry (``start<i>_<method>.csv``, see
-    :func:`~..scene.carries.path_table`)."""
+    :func:`~...scene.carries.path_table`)."""
     from ...scene.carries import path_table
     from ...scene.world import World
 

@@ -3,14 +3,14 @@ and for the landscape's best locations in turn until one is held.
 
 At each location the twin takes its solved posture (gripping the handles) and the robot tries
 to hold the box there with any grasp at six lifts from 0 to the lift's travel, lowest first
-(:meth:`~..scene.world.World.hold_at_some_lift`; its base driven to keep the box at arm's
+(:meth:`~...scene.world.World.hold_at_some_lift`; its base driven to keep the box at arm's
 length): PyBullet's IK within the tolerances, inside the joint limits, touching neither
-itself, the box nor the worker (:meth:`~..scene.world.World.reach`). The first lift that
+itself, the box nor the worker (:meth:`~...scene.world.World.reach`). The first lift that
 holds is kept, with the robot's smallest distance to the worker there.
 
 - :func:`reachability`: a boundary's grid, one row per location.
 - :func:`restricted_optimum`: the landscape's feasible locations in order of score (the most
-  symmetric first among equal scores, as :func:`~..landscape.stats.optimum` picks) until the
+  symmetric first among equal scores, as :func:`~...landscape.stats.optimum` picks) until the
   robot holds one: the best handover the robot can serve, beside the unrestricted optimum.
 """
 

@@ -12,7 +12,7 @@ from ..typed_json import setting
 
 @dataclasses.dataclass(frozen=True)
 class CaptureConfig:
-    """How well each keypoint format measures the twin (:mod:`..capture_accuracy`): the twin's
+    """How well each keypoint format measures the twin (:mod:`.accuracy`): the twin's
     postures at ``postures`` locations drawn (seeded) from the landscape's feasible ones, each
     measured ``draws`` times at every angle error SD of ``angle_sds``: 3.5° for pose models
     trained on ergonomics data (VEHS-7M; Wen et al. 2025), 15° the median RMSE of markerless

@@ -12,7 +12,7 @@ so its 2- and 5-minute caps are ~37,800 and ~94,500 evaluations (``paper-2min``,
 Each agent but DQN runs ``runs`` times per target once, at its largest budget, and stops at its
 first target cell: a run with a smaller cap is the first part of that run, and target cells are
 at the objective's minimum, so every smaller budget is read from it with nothing changed
-(:mod:`..learning_runs`). DQN (a network update a step) runs ``dqn_runs`` times on ``dqn_targets``
+(:mod:`.runs`). DQN (a network update a step) runs ``dqn_runs`` times on ``dqn_targets``
 at the paper's rate only. ``full_runs`` runs per agent and paper-rate budget go to the cap: the best
 location the agent keeps and the greedy rollouts of its policy. Episodes end only by truncation
 (``episode_end: none``): the paper's rule (end at a score of at most 4) tells the learner where its
@@ -178,7 +178,7 @@ def estimate_s(config: StudyConfig, workers: int, folder: Path) -> float | None:
 
 def target_table(config: StudyConfig, found: dict[str, Landscape]) -> pd.DataFrame:
     """targets.csv: each target's landscape, objective, goal and cells (computed here once, for
-    this process and the workers it forks: :func:`~..learning_runs.prepare_target`)."""
+    this process and the workers it forks: :func:`~.runs.prepare_target`)."""
     rows = []
     for target in config.learning.targets:
         landscape = found[target.name]

@@ -1,7 +1,7 @@
 """The runs of the learning study and what one run reports.
 
 A *target* is a landscape, the objective the agents minimise on it and the cells that count as
-the optimum (:mod:`..search.targets`). A *budget* is a number of env steps (score
+the optimum (:mod:`...search.targets`). A *budget* is a number of env steps (score
 evaluations), equal for every agent, or a wall-clock cap. Three kinds of run:
 
 - ``search``: one run per (target, agent, run) at the agent's largest step budget, stopped at
@@ -59,7 +59,7 @@ class RunJob:
         target: the target's name; ``evaluator`` and ``grid`` its landscape (read through the
             landscape door, once per process), ``objective`` and ``goal`` what the agents
             minimise and which cells count.
-        agent: a searcher of the registry (:data:`~..search.registry.SEARCHERS`).
+        agent: a searcher of the registry (:data:`~...search.registry.SEARCHERS`).
         budget: the budget's name; ``steps`` or ``time_cap_s`` its size.
         run: the run's number within its target.
         seed: the run's seed (:func:`run_seed`: the same for every agent).

@@ -90,7 +90,7 @@ def comparisons(runs: pd.DataFrame, learners: tuple[str, ...], margin: float,
 
     Holm's correction runs over every row of the table (the whole family), separately for
     each test; the verdict follows the corrected signed-rank test, then the corrected TOST
-    (:func:`~..learning.statistics.verdict`)."""
+    (:func:`~...search.statistics.verdict`)."""
     references = [r for r in REFERENCES if r in set(runs["agent"])]
     if not references:
         learners, references = learners[:1], list(learners[1:])

@@ -13,7 +13,7 @@ from ..typed_json import setting
 
 @dataclasses.dataclass(frozen=True)
 class PeopleConfig:
-    """The twin beside Kim et al.'s measured handovers (:mod:`..beside_people`): the object
+    """The twin beside Kim et al.'s measured handovers (:mod:`.beside_people`): the object
     the twin holds (the data set does not name it: a light one of ``OBJECTS``); the fit of
     ``fit_weights`` (factors on joint preferences, ``gaze`` on the gaze weight) by at most
     ``fit_evaluations`` evaluations on ``train_share`` of the in-distribution recordings (seeded

@@ -1,13 +1,13 @@
 """The personalisation study with answers as a site gets them, at equal budgets.
 
-The main comparison (:mod:`.personalise`) answers every handover with the twin's exact score
+The main comparison (:mod:`.sessions`) answers every handover with the twin's exact score
 and stops a run at the worker's known minimum: the ceiling. This one is what a site would see:
 
 - **answers with error** (:class:`Answers`): the worker's posture *measured* with the
   robustness part's Gaussian error of SD σ on every angle and scored
-  (:class:`~..search.measured.MeasuredScores`; σ = 0 is the exact answer), or the score given
+  (:class:`~.measured.MeasuredScores`; σ = 0 is the exact answer), or the score given
   by a *rater* whose intra-rater reliability is a published ICC
-  (:class:`~..search.measured.RatedScores`);
+  (:class:`~.measured.RatedScores`);
 - **equal budgets and no stop rule**: nobody knows the worker's minimum; every searcher gets the
   same handovers, and what it recommends after B of them is read from what was observed;
 - **recommendation rules** (:data:`RULES`): ``lowest``, the location of the lowest answer
@@ -15,9 +15,9 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   k (:func:`confirmations`) spent measuring the k best locations again, the lowest mean of two
   answers recommended — a repeat at a location costs a handover, as it is a new measurement;
   ``preferred``, for a searcher told only which of the last two handovers was better
-  (:mod:`~..search.pairwise`: the answers' scores compared), the location its own model
+  (:mod:`~...search.pairwise`: the answers' scores compared), the location its own model
   prefers;
-- **a twin fitted to the worker** (:mod:`~..search.fitted_twin`): after the prior's first
+- **a twin fitted to the worker** (:mod:`~...search.fitted_twin`): after the prior's first
   handovers, the population's other body whose twin explains them best, its optimum proposed;
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
   fitted to twins like the one that answers), the same workers with a modelling choice of the
@@ -106,7 +106,7 @@ class MeasuredJob:
     Attributes:
         worker: the worker's id; ``twin``: :data:`IN_MODEL` or the sensitivity variant its
             twin differs by; ``evaluator``: that twin (who answers).
-        grid, objective, prior: as :class:`~.personalise.PersonaliseJob`'s.
+        grid, objective, prior: as :class:`~.sessions.PersonaliseJob`'s.
         searcher: a searcher of the registry (given the prior if it needs one: the ``+prior``
             entries).
         answers: how each handover is answered.
@@ -136,7 +136,7 @@ _ANGLES: dict[tuple[str, int], np.ndarray] = {}
 
 
 def truth_key(worker: str, twin: str) -> str:
-    """The name a worker's true scores are kept under (:func:`~.personalise.prepare_values`)."""
+    """The name a worker's true scores are kept under (:func:`~.sessions.prepare_values`)."""
     return worker if twin == IN_MODEL else f"{worker}|{twin}"
 
 

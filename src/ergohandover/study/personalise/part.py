@@ -10,7 +10,7 @@ it) — gets paired, seeded runs
 until it evaluates a cell at the worker's own minimum of the objective or spends the largest
 budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
 within B evaluations). Then the same workers, and workers whose twin differs from the prior's,
-are answered as a site would answer (:mod:`..measured_answers`: measured postures, raters, or
+are answered as a site would answer (:mod:`.measured_answers`: measured postures, raters, or
 preferences) at equal budgets with no stop rule.
 
 Writes results/personalise/:
@@ -73,7 +73,7 @@ from .sessions import (
 def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
                  objective: str) -> pd.DataFrame:
     """workers.csv: each worker's body, own optimum and prior (each worker's objective computed
-    here once, for this process and the workers it forks: :func:`~..personalise.prepare_values`)."""
+    here once, for this process and the workers it forks: :func:`~.sessions.prepare_values`)."""
     rows = []
     for (_, worker), landscape in zip(workers.iterrows(), found, strict=True):
         values = prepare_values(worker["worker"], objective, landscape)

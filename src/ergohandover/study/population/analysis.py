@@ -1,7 +1,7 @@
 """The population study's tables from its workers' scores: the one-size locations and every
 worker's penalty there, who pays by sex and stature, how the optimum's height follows body size,
 and how many optima lie in the published standing working heights (the arithmetic is
-:mod:`.population`'s).
+:mod:`.one_size`'s).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The one-size choices of :func:`.population.one_size_cells` for many resamples of one
+"""The one-size choices of :func:`.one_size.one_size_cells` for many resamples of one
 workforce, without copying the workforce's score matrix for each.
 
 A resample (a bootstrap draw with repeats, or a split half) is a multiset of the workforce's
@@ -9,7 +9,7 @@ observed score, K fixed by the resample's size) is the smallest score value ``v`
 percentile of the grid is found by counting up from the lowest value and stopping at the first
 value some cell reaches: a few products of the multiplicities with a (W, C) mask instead of a
 sort of the resample's (W', C) copy. The choice among them is ``one_size_cells``'s own rule
-(:func:`.population.chosen_cells`), so the cells are those of ``one_size_cells`` on the copied
+(:func:`.one_size.chosen_cells`), so the cells are those of ``one_size_cells`` on the copied
 resample (tested); only the time differs (in the robustness part's 1,350 resamples of
 100 workers over the 1 cm grid, minutes).
 """
@@ -54,7 +54,7 @@ class OneSizeResampler:
 
     def cells(self, multiplicity: np.ndarray) -> dict[str, int]:
         """The cell of each one-size choice for the resample of ``multiplicity`` (W,) copies of
-        each worker: what :func:`.population.one_size_cells` returns on that resample."""
+        each worker: what :func:`.one_size.one_size_cells` returns on that resample."""
         m = np.asarray(multiplicity, dtype=np.float64)
         m32 = m.astype(np.float32)  # counts of at most a few hundred: exact in float32
         n = round(float(m.sum()))

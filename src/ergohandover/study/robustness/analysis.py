@@ -147,8 +147,8 @@ def difference(a: np.ndarray, b: np.ndarray) -> dict:
 def bootstrap_mean(values: np.ndarray, rng: np.random.Generator,
                    resamples: int) -> tuple[float, float, float]:
     """Mean and 95 % percentile-bootstrap interval (NaN dropped). The same resampling as
-    :func:`.population.mean_interval`, whose quantiles sit at ``(1 - 0.95) / 2`` (0.025 plus a
-    float's last bit): the committed robustness results were made with these."""
+    :func:`..population.one_size.mean_interval`, whose quantiles sit at ``(1 - 0.95) / 2``
+    (0.025 plus a float's last bit): the committed robustness results were made with these."""
     values = values[~np.isnan(values)]
     means = values[rng.integers(values.size, size=(resamples, values.size))].mean(axis=1)
     return float(values.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means,
