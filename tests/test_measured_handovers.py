@@ -1,8 +1,8 @@
 """The derivation of measured handovers' figures (experiments/tools/derive_measured_handovers.py),
 on a synthetic data set in the format of Kim et al.'s, made here: the transfer frame, the
-receiving hand, the object's place relative to the receiver and the receiver's posture come out
-as the data were made; a handover without a transfer is dropped with its reason; two runs write
-the same bytes."""
+receiving hand, the object's place relative to the receiver, the receiver's posture and its
+standing neutral and spread come out as the data were made; a handover without a transfer is
+dropped with its reason; two runs write the same bytes."""
 
 from __future__ import annotations
 
@@ -109,6 +109,12 @@ def test_each_handover_comes_out_as_it_was_made(twin, derived):
                    "right_upper_arm_flexion", "left_knee_flexion"):
         assert np.allclose(used[column], truth[column][0], atol=0.06), column
     assert used["right_wrist_flexion"].isna().all()  # ZED's rigid hands: unseen
+    # The receiver holds one posture throughout: its standing neutral is that posture, and it
+    # does not spread around the transfer.
+    for column in ("trunk_flexion", "neck_flexion", "right_knee_flexion",
+                   "right_elbow_flexion", "left_upper_arm_abduction"):
+        assert np.allclose(used[f"neutral_{column}"], used[column], atol=0.06), column
+        assert np.allclose(used[f"spread_{column}"], 0.0, atol=0.01), column
     assert (used["reba_lo"] <= used["reba_hi"]).all()
 
 

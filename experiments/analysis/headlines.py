@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
+import people_tables
 import personalise_tables
 import robustness_verdicts
 import stance_tables
@@ -279,24 +280,29 @@ def stance_rows(results: Path) -> list[Headline]:
 
 def people_rows(results: Path) -> list[Headline]:
     manifest = json.loads((results / "people" / "manifest.json").read_text())
-    dropped = sum(manifest["dropped"].values())
-    errors = pd.read_csv(results / "people" / "errors.csv")
-    held = errors[(errors["group"] == "held-out") & (errors["twin"] == "default")]
-    advice = pd.read_csv(results / "people" / "recommendation.csv").set_index("score")
-    paper, reba = advice.loc["paper_postural"], advice.loc["reba"]
+    total = manifest["handovers"] + sum(manifest["dropped"].values())
+    held, out = people_tables.pooled(results), people_tables.pooled(results,
+                                                                     "out-of-distribution")
+    ours = held.loc["line + twin"]
+    ranking = pd.read_csv(results / "people" / "ranking.csv").set_index(["score", "group"])
+    reba = ranking.loc[("reba", "held-out")]
     return [Headline(
         "people", "beside people", "the-twin-beside-a-thousand-measured-handovers",
         "no measured handover; five VR participants",
-        f"sized to each receiver, the twin misses their joint angles by a median "
-        f"{held['median_abs_deg'].min():.0f}–{held['median_abs_deg'].max():.0f}° "
-        f"({len(held)} angles, held out)",
-        f"{manifest['handovers']:,} of {manifest['handovers'] + dropped:,} measured handovers",
-        f"distance to the paper score's optimum: quartiles {100 * paper['distance_p25_m']:.0f}–"
-        f"{100 * paper['distance_p75_m']:.0f} cm",
-        "not yet compared with a constant or the mean person's posture",
-        (f"REBA's optimum spans {int(reba['optimum_cells']):,} cells, REBA hardly tells places "
-         "apart",), "", ("people/manifest.json", "people/recommendation.csv",
-                         "people/errors.csv"))]
+        f"held out, the line + twin predicts receivers' six joint angles with skill "
+        f"{ours['skill']:+.2f} against the constant (RMSE {ours['rmse_deg']:.1f}° against "
+        f"{held.loc['constant', 'rmse_deg']:.1f}°); the straight line alone "
+        f"{held.loc['line', 'skill']:+.2f}",
+        f"{int(ours['n']) // 6} held-out of {manifest['handovers']:,} used handovers "
+        f"({total:,} measured)",
+        f"95 % bootstrap {ours['skill_low']:+.2f} to {ours['skill_high']:+.2f}; noise ceiling "
+        f"{ours['ceiling_rmse_deg']:.1f}°",
+        f"the training mean ({held.loc['constant', 'rmse_deg']:.1f}°); the line in hand place "
+        f"and stature ({held.loc['line', 'rmse_deg']:.1f}°)",
+        (f"the twin alone is worse than the constant (skill {held.loc['twin', 'skill']:+.2f})",
+         f"out of distribution skill falls to {out.loc['line + twin', 'skill']:+.2f}",
+         f"its scores do not rank people's (REBA Spearman {reba['spearman']:.2f})"), "",
+        ("people/skill.csv", "people/ranking.csv", "people/manifest.json"))]
 
 
 def personalise_rows(results: Path) -> list[Headline]:

@@ -1,6 +1,8 @@
-"""The people part's blocks, from results/people/ only: the README's headline row "beside
-people", and the report's tables of where people received, how far the twin predicts their
-posture, how far they received from its recommendation, and what the fit of its weights did.
+"""The people part's blocks, from results/people/ only: the report's paragraph behind the
+README's headline row "beside people", and its tables of where people received, how well each
+predictor (the twin among them) predicts their posture against the constant, where the twin
+predicts they receive, how far they received from its recommendation, and what the fit of its
+weights did.
 ``python people_tables.py`` rewrites them after the study."""
 
 from __future__ import annotations
@@ -22,43 +24,74 @@ CAVEAT = ("Kim et al. (ICRA 2025): dynamic handovers, mostly one-handed, of smal
           "fixed-proportion skeleton.")
 
 
+PREDICTOR_NAMES = {"constant": "constant (training mean)",
+                   "line": "straight line (hand place, stature)",
+                   "neighbours": "10 nearest neighbours",
+                   "twin": "twin", "fitted twin": "fitted twin",
+                   "line + twin": "line + twin"}
+ALL = "all six"
+
+
 def _read(results: Path) -> dict:
     folder = results / "people"
-    return {"errors": pd.read_csv(folder / "errors.csv"),
+    return {"skill": pd.read_csv(folder / "skill.csv"),
             "locations": pd.read_csv(folder / "locations.csv"),
             "advice": pd.read_csv(folder / "recommendation.csv"),
+            "receiving": pd.read_csv(folder / "receiving.csv"),
+            "ranking": pd.read_csv(folder / "ranking.csv"),
             "study": pd.read_csv(folder / "study_task.csv"),
             "manifest": json.loads((folder / "manifest.json").read_text())}
 
 
-def _error(row) -> str:
-    return (f"{row.median_abs_deg:.1f} [{row.median_abs_low:.1f}, {row.median_abs_high:.1f}]"
-            f" / {row.rmse_deg:.1f} / {row.bias_deg:+.1f}")
+def _skill(row) -> str:
+    return f"{row.skill:+.2f} ({row.skill_low:+.2f} to {row.skill_high:+.2f})"
+
+
+def pooled(results: Path, group: str = "held-out") -> pd.DataFrame:
+    """Per predictor, its row pooling every angle (:data:`ALL`) in ``group``."""
+    skill = _read(results)["skill"]
+    return skill[(skill["group"] == group) & (skill["angle"] == ALL)].set_index("predictor")
 
 
 def headline(results: Path) -> str:
-    """The README's row: N, the held-out median angle errors, how far people received from
-    the recommendation, and the fit."""
+    """The report's paragraph: N, skill against the constant and the line, held out and out of
+    distribution, what the twin alone does, where people received and the ranking."""
     data = _read(results)
-    manifest, advice = data["manifest"], data["advice"].set_index("score")
-    held = data["errors"].query("twin == 'default' and group == 'held-out'").set_index("angle")
-    angles = ", ".join(f"{ANGLE_NAMES[a].split(' (')[0]} {held.loc[a, 'median_abs_deg']:.0f}°"
-                       for a in ANGLE_NAMES)
-    reba, paper = advice.loc["reba"], advice.loc["paper_postural"]
-    step = manifest["config"]["people"]["step"]
+    manifest = data["manifest"]
+    held, out = pooled(results), pooled(results, "out-of-distribution")
+    skill = data["skill"].query("group == 'held-out' and predictor == 'line + twin' "
+                                "and angle != @ALL").set_index("angle")
+    unsure = [ANGLE_NAMES[a].split(" (")[0] for a in skill.index if skill.loc[a, "skill_low"] <= 0]
+    where = data["receiving"].query("group == 'held-out'").set_index("score").loc["paper_postural"]
+    ranking = data["ranking"].query("group == 'held-out'").set_index("score")
+    reba = data["advice"].set_index("score").loc["reba"]
     total = manifest["handovers"] + sum(manifest["dropped"].values())
-    return (f"{manifest['handovers']:,} of {total:,} "
-            f"measured handovers (Kim et al. 2025: dynamic, one-handed, small objects, ZED "
-            f"keypoints): the twin sized to each receiver, its hand where theirs was, misses "
-            f"their angles by a median of {angles} ({int(held['n'].iloc[0])} held out); "
-            f"{100 * reba['within_step_share']:.0f} % of people's hands were within one grid "
-            f"step ({100 * step:g} cm) of the twin's one-handed REBA optimum "
-            f"({int(reba['optimum'])}: {int(reba['optimum_cells']):,} cells, REBA hardly tells "
-            f"places apart), a median {100 * paper['distance_median_m']:.0f} cm (quartiles "
-            f"{100 * paper['distance_p25_m']:.0f}–{100 * paper['distance_p75_m']:.0f}) from "
-            f"the paper score's ({int(paper['optimum'])}), where the twin scores "
-            f"{paper['twin_there_median']:g} and people's own measured posture scores "
-            f"{_span(paper)}; {fit_clause(data)}")
+    n = int(held.loc["constant", "n"]) // len(ANGLE_NAMES)
+    return (f"{manifest['handovers']:,} of {total:,} measured handovers (Kim et al. 2025: "
+            f"dynamic, one-handed, small objects, ZED keypoints), both sides' angles read through "
+            f"the same keypoints; held out ({n} handovers), the line + twin predicts the six joint "
+            f"angles with skill {_skill(held.loc['line + twin'])} against the training mean "
+            f"(RMSE {held.loc['line + twin', 'rmse_deg']:.1f}° against "
+            f"{held.loc['constant', 'rmse_deg']:.1f}°), above the straight line in the hand's "
+            f"place and stature ({held.loc['line', 'rmse_deg']:.1f}°, skill "
+            f"{held.loc['line', 'skill']:+.2f}), below 10 nearest neighbours "
+            f"({held.loc['neighbours', 'rmse_deg']:.1f}°); the noise ceiling is "
+            f"{held.loc['constant', 'ceiling_rmse_deg']:.1f}°"
+            + (f"; its interval includes no skill for {', '.join(unsure)}" if unsure else "")
+            + f"; out of distribution its skill is {_skill(out.loc['line + twin'])}. The twin "
+            f"alone scores {held.loc['twin', 'skill']:+.2f} (RMSE "
+            f"{held.loc['twin', 'rmse_deg']:.1f}°), fitted {held.loc['fitted twin', 'skill']:+.2f}."
+            f" Without the person's hand, the twin's paper-score optimum places it "
+            f"{where['twin_rmse_cm']:.0f} cm (RMSE) from where people took the object, the "
+            f"training mean {where['mean_rmse_cm']:.0f} cm (skill {_skill(where)}); "
+            f"{100 * reba['within_step_share']:.0f} % of hands lie within one grid step of the "
+            f"twin's REBA optimum, {100 * reba['within_step_null_share']:.0f} % after moving every "
+            f"hand 10 cm at random. The twin's scores where people received rank people's "
+            f"measured scores with Spearman {ranking.loc['reba', 'spearman']:.2f} "
+            f"({ranking.loc['reba', 'low']:.2f} to {ranking.loc['reba', 'high']:.2f}) on REBA, "
+            f"{ranking.loc['rula', 'spearman']:.2f} on RULA, "
+            f"{ranking.loc['paper_postural', 'spearman']:.2f} on the paper score; "
+            f"{fit_clause(data)}")
 
 
 def _span(row) -> str:
@@ -77,9 +110,12 @@ def fit_clause(data: dict) -> str:
     rmse, within = manifest["angle_rmse_deg"], manifest["published_conditions_within"]
     bounded = at_bounds(manifest["fit_factors"])
     total = len(data["study"]) // 2
-    return (f"fitted weights cut the held-out angle RMSE from {rmse['default']['held-out']:.1f}° "
-            f"to {rmse['fitted']['held-out']:.1f}° but are not the default: "
-            + (f"{len(bounded)} of them sit at the search's bound, " if bounded else "")
+    return (f"fitted weights cut the twin's held-out angle RMSE from "
+            f"{rmse['default']['held-out']:.1f}° to {rmse['fitted']['held-out']:.1f}° but are not "
+            f"the default: "
+            + (f"{', '.join(n.replace('_', ' ') for n in bounded)} "
+               f"{'sits' if len(bounded) == 1 else 'sit'} at the search's bound, "
+               if bounded else "")
             + f"they come from another task, and on the study's own they meet "
             f"{within['fitted']} of {total} published conditions (the default {within['default']})")
 
@@ -94,35 +130,77 @@ def locations_table(results: Path) -> list[str]:
     return lines
 
 
-def errors_table(results: Path) -> list[str]:
+def calibration_text(results: Path) -> str:
+    """What the standing frames hold, and each side's calibrated angles at the transfer."""
+    table = pd.read_csv(results / "people" / "handovers.csv")
+    angles = ("trunk_flexion", "neck_flexion", "knee_flexion")
+
+    def medians(prefix: str) -> str:
+        return ", ".join(f"{ANGLE_NAMES[a].split(' (')[0].split(' ')[0]} "
+                         f"{table[prefix + a].median():+.1f}°" for a in angles)
+
+    return (f"Standing (both knees within 10° of straight), the tracker reads the receivers at a "
+            f"median of {medians('neutral_')}: the zero of its skeleton rather than a posture "
+            f"(the trunk leans back in every recording). Each recording's trunk, neck and knee "
+            f"flexion are read from its own standing median, the twin's from its upright posture "
+            f"through the same keypoints. So read, at the transfer the receivers hold "
+            f"{medians('measured_')} (medians), the twin {medians('twin_')}")
+
+
+def skill_table(results: Path) -> list[str]:
+    """Per angle (and all six) and predictor, held out and out of distribution: RMSE and skill
+    against the constant with its interval; the noise ceiling in the last row."""
+    skill = _read(results)["skill"].set_index(["group", "predictor", "angle"])
+    lines = []
+    for group in ("held-out", "out-of-distribution"):
+        n = int(skill.loc[(group, "constant", "trunk_flexion"), "n"])
+        lines += [f"| {group} (N = {n}) | " + " | ".join(
+            PREDICTOR_NAMES[p] for p in PREDICTOR_NAMES) + " | noise ceiling |",
+            "|---|" + "---|" * (len(PREDICTOR_NAMES) + 1)]
+        for angle, name in (*ANGLE_NAMES.items(), (ALL, "all six angles")):
+            cells = [f"{skill.loc[(group, p, angle), 'rmse_deg']:.1f}° "
+                     f"({_skill(skill.loc[(group, p, angle)])})" if p != "constant"
+                     else f"{skill.loc[(group, p, angle), 'rmse_deg']:.1f}°"
+                     for p in PREDICTOR_NAMES]
+            ceiling = skill.loc[(group, "constant", angle), "ceiling_rmse_deg"]
+            lines.append(f"| {name} | " + " | ".join(cells) + f" | {ceiling:.1f}° |")
+        lines.append("")
+    return [*lines, "Each cell: RMSE (skill against the constant, 1 − MSE/MSE(constant), with "
+            "its 95 % bootstrap interval over handovers). Noise ceiling: the root mean square "
+            "of each angle's spread over the frames within 0.1 s of the transfer."]
+
+
+def receiving_table(results: Path) -> list[str]:
+    """Per score: the twin's optimum as the predicted receiving point, against the training
+    mean, held out and out of distribution; and the rank correlation of the scores."""
     data = _read(results)
-    table = data["errors"].set_index(["twin", "group", "angle"])
-    columns = [("default", "held-out"), ("fitted", "held-out"),
-               ("default", "out-of-distribution"), ("fitted", "out-of-distribution")]
-    n = {group: int(table.loc[("default", group, "trunk_flexion"), "n"])
-         for group in ("held-out", "out-of-distribution")}
-    lines = ["| angle | " + " | ".join(f"{twin} twin, {group} (N = {n[group]})"
-                                        for twin, group in columns) + " |",
-             "|---|" + "---|" * len(columns)]
-    for angle, name in ANGLE_NAMES.items():
-        cells = [_error(table.loc[(twin, group, angle)]) for twin, group in columns]
-        lines.append(f"| {name} | " + " | ".join(cells) + " |")
-    return [*lines, "", "Each cell: median |predicted − measured| [95 % bootstrap interval] / "
-            "RMSE / bias (mean predicted − measured), degrees."]
+    ranking = data["ranking"].set_index(["score", "group"])
+    lines = ["| score | group (N) | the twin's optimum: RMSE (median) [cm] | training mean: "
+             "RMSE (median) [cm] | skill | Spearman, twin's score against people's |",
+             "|---|---|---|---|---|---|"]
+    for row in data["receiving"].itertuples():
+        rank = ranking.loc[(row.score, row.group)]
+        lines.append(f"| {SCORE_NAMES[row.score]} | {row.group} ({row.n}) | "
+                     f"{row.twin_rmse_cm:.0f} ({row.twin_median_cm:.0f}) | {row.mean_rmse_cm:.0f}"
+                     f" ({row.mean_median_cm:.0f}) | {_skill(row)} | {rank.spearman:.2f} "
+                     f"({rank.low:.2f} to {rank.high:.2f}) |")
+    return lines
 
 
 def recommendation_table(results: Path) -> list[str]:
     data = _read(results)
     lines = ["| score | the twin's optimum (x, y, z) [m] (cells at it) | people's hands from the "
-             "nearest optimal cell: median (quartiles) [cm] | within one grid step | the twin "
-             "where people received: median (at its optimum) | people's measured score: "
-             "median interval (holds the optimum) |", "|---|---|---|---|---|---|"]
+             "nearest optimal cell: median (quartiles) [cm] | within one grid step (hands "
+             "moved 10 cm at random) | the twin where people received: median (at its "
+             "optimum) | people's measured score: median interval (holds the optimum) |",
+             "|---|---|---|---|---|---|"]
     for row in data["advice"].itertuples():
         lines.append(
             f"| {SCORE_NAMES[row.score]} | {row.optimum} at ({row.optimum_x:.2f}, "
             f"{row.optimum_y:.2f}, {row.optimum_z:.2f}) ({row.optimum_cells:,}) | "
             f"{100 * row.distance_median_m:.0f} ({100 * row.distance_p25_m:.0f}–"
-            f"{100 * row.distance_p75_m:.0f}) | {100 * row.within_step_share:.0f} % | "
+            f"{100 * row.distance_p75_m:.0f}) | {100 * row.within_step_share:.0f} % "
+            f"({100 * row.within_step_null_share:.0f} %) | "
             f"{row.twin_there_median:g} ({100 * row.twin_there_at_optimum_share:.0f} %) | "
             f"{row.people_lo_median:g}–{row.people_hi_median:g} "
             f"({100 * row.people_hold_optimum_share:.0f} %) |")
@@ -153,7 +231,9 @@ def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/people/ only."""
     return {"people-headline": headline(results),
             "people-locations": "\n" + "\n".join(locations_table(results)) + "\n",
-            "people-errors": "\n" + "\n".join(errors_table(results)) + "\n",
+            "people-calibration": calibration_text(results) + ".",
+            "people-skill": "\n" + "\n".join(skill_table(results)) + "\n",
+            "people-receiving": "\n" + "\n".join(receiving_table(results)) + "\n",
             "people-recommendation": "\n" + "\n".join(recommendation_table(results)) + "\n",
             "people-fit": fit_text(results) + "."}
 

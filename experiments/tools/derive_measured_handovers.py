@@ -32,6 +32,11 @@ Definitions (one handover):
 - Posture: the receiver's keypoints at the transfer frame through ``ergohandover.capture``
   (format zed34, up z); unseen columns are null; scores with no load known (the object's mass is
   not in the data set) as intervals.
+- Neutral and spread of each compared angle (``ergohandover.study.people.beside_people.
+  COMPARED``): ``neutral_*``, its median over the recording's standing frames (the same frames
+  as the heights: a calibration of the angle's zero, where the recording stands); ``spread_*``,
+  its standard deviation over the frames within ``SPREAD_FRAMES`` of the transfer (what one
+  frame's reading varies by around the moment: tracker jitter and motion together).
 
 Output: CSV, one row per handover file in name order (metres to 1 mm, degrees to 0.1 deg; a
 first line ``# source: ...``), written through a temporary file and os.replace: each handover's
@@ -52,6 +57,7 @@ import pandas as pd
 
 from ergohandover.capture import capture, capture_scores, keypoint_format
 from ergohandover.ergonomics.posture import COLUMN_BY_NAME, POSTURE_COLUMNS
+from ergohandover.study.people.beside_people import COMPARED
 from ergohandover.study.people.transfer import TransferError, transfer
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -63,6 +69,8 @@ SOURCE = ("Kim et al., Learning-based Dynamic Robot-to-Human Handover, ICRA 2025
           "arXiv:2502.12602; data github.com/hyeonseong-kim98/dynamic_handover_dataset")
 STANDING_KNEE_DEG = 10.0
 """Frames whose knees are both flexed less than this count as standing, for the height."""
+SPREAD_FRAMES = 3
+"""Frames either side of the transfer over which each angle's spread is taken (0.1 s)."""
 SEGMENTS = {"thigh": ("hip", "knee"), "shank": ("knee", "ankle"),
             "upper_arm": ("shoulder", "elbow"), "forearm": ("elbow", "wrist")}
 
@@ -100,12 +108,29 @@ def handover(path: Path) -> dict:
     posture = {name: (None if captured.unseen[0, i] else round(float(
         captured.columns[name][0]), 1)) for i, name in enumerate(POSTURE_COLUMNS)
         if COLUMN_BY_NAME[name].kind == "angle"}
+    sizes, standing = _sizes(receiver, fmt)
     return {"handover": path.stem, "frames": len(obj), "transfer_frame": frame,
             "receiving_hand": side, "hand_to_object_m": round(found.distance, 3),
             **{k: round(float(v), 3) for k, v in location.items()},
-            **_sizes(receiver, fmt), **posture,
+            **sizes, **posture,
             **{name: int(values[0]) for name, values in scores.items()
-               if name.endswith(("_lo", "_hi"))}}
+               if name.endswith(("_lo", "_hi"))},
+            **_neutral_and_spread(capture(receiver, fmt, "z"), standing, frame)}
+
+
+def _neutral_and_spread(captured, standing: np.ndarray, frame: int) -> dict[str, float | None]:
+    """Each compared angle's median over the standing frames and its standard deviation over
+    the frames within SPREAD_FRAMES of the transfer [deg] (None where no frame shows it)."""
+    out = {}
+    near = np.zeros(len(standing), dtype=bool)
+    near[max(frame - SPREAD_FRAMES, 0):frame + SPREAD_FRAMES + 1] = True
+    for name in COMPARED:
+        seen = ~captured.unseen[:, POSTURE_COLUMNS.index(name)]
+        values = captured.columns[name]
+        calm, around = values[seen & standing], values[seen & near]
+        out[f"neutral_{name}"] = round(float(np.median(calm)), 1) if calm.size else None
+        out[f"spread_{name}"] = round(float(np.std(around)), 2) if around.size > 1 else None
+    return out
 
 
 def _heading(points: np.ndarray, fmt) -> np.ndarray:
@@ -116,8 +141,9 @@ def _heading(points: np.ndarray, fmt) -> np.ndarray:
     return np.column_stack([np.cross(left, up), left, up])
 
 
-def _sizes(receiver: np.ndarray, fmt) -> dict[str, float]:
-    """Median segment lengths over the recording and the standing vertex-to-heel height [m]."""
+def _sizes(receiver: np.ndarray, fmt) -> tuple[dict[str, float], np.ndarray]:
+    """Median segment lengths over the recording and the standing vertex-to-heel height [m],
+    and which frames stand (both knees straighter than STANDING_KNEE_DEG)."""
     def point(name: str) -> np.ndarray:
         return receiver[:, fmt.index(name)]
 
@@ -137,7 +163,7 @@ def _sizes(receiver: np.ndarray, fmt) -> dict[str, float]:
     sizes["shoulder_height_m"] = (float(np.median(shoulders[standing])) if standing.any()
                                   else None)
     sizes["standing_frames"] = int(standing.sum())
-    return {k: (round(v, 3) if isinstance(v, float) else v) for k, v in sizes.items()}
+    return {k: (round(v, 3) if isinstance(v, float) else v) for k, v in sizes.items()}, standing
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

@@ -90,8 +90,9 @@ QUESTIONS = (
     Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 5, False,
              "fig_capture"),
     Question("people", ("landscape",), {
-        "handovers.csv": (), "errors.csv": (), "fit.csv": (), "locations.csv": (),
-        "recommendation.csv": (), "study_task.csv": ()}, 75, True, "fig_people"),
+        "handovers.csv": (), "skill.csv": (), "fit.csv": (), "locations.csv": (),
+        "receiving.csv": (), "ranking.csv": (), "recommendation.csv": (),
+        "study_task.csv": ()}, 75, True, "fig_people"),
     Question("manikins", ("robustness",), {"manikins.csv": ()}, 15),
     Question("accommodation", ("robustness",), {
         "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600, True,

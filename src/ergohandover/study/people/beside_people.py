@@ -14,8 +14,11 @@ Three comparisons, each per handover:
   upper arm and forearm and the standing shoulder height), its receiving hand's grip put where
   the receiver's hand point was, holding a light object in that hand
   (:data:`~ergohandover.twin.task.OBJECTS`, the data set does not say what was handed), solves
-  its posture from standing as the solver's lattice nodes are solved; per angle the difference
-  from the receiver's measured angle;
+  its posture from standing as the solver's lattice nodes are solved. One definition of each
+  angle on both sides: the twin's points are placed as ZED BODY_34 keypoints and measured by
+  the capture layer as the receiver's were, and trunk, neck and knee flexion are read from each
+  side's own neutral (:data:`CALIBRATED`). Against predictors that need no twin:
+  :mod:`.skill`;
 * **the recommendation against people**: the optimum of the twin sized to the median receiver
   for the same one-handed task, beside where people's hands were; the twin's scores where
   people received beside people's own measured scores.
@@ -35,6 +38,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ...capture import capture, keypoint_format
+from ...capture.placement import place
 from ...ergonomics import Posture, score_postures
 from ...frames import world_to_worker
 from ...twin.angles import posture_columns
@@ -49,7 +54,16 @@ ANGLES = ("trunk_flexion", "neck_flexion", "knee_flexion", "upper_arm_flexion",
 """The angles compared: the receiving side's for the limbs. Measured by ZED BODY_34 in every
 handover (its wrists and shoulder girdle are held rigid by the tracker: not compared)."""
 SIDED = ("knee_flexion", "upper_arm_flexion", "upper_arm_abduction", "elbow_flexion")
+COMPARED = tuple(f"{side}_{angle}" if angle in SIDED else angle
+                 for angle in ANGLES for side in (("left", "right") if angle in SIDED else ("",)))
+"""The Posture columns the angles are read from (both sides of the sided ones)."""
 SCORES = ("reba", "rula", "paper_postural")
+CALIBRATED = ("trunk_flexion", "neck_flexion", "knee_flexion")
+"""The angles read from each side's own neutral: the recording's median over its standing frames,
+the twin's upright posture (every joint at zero), both through the same keypoints. The arms'
+angles are not: in the standing frames the arms swing or carry, which is no neutral."""
+TRACKER = keypoint_format("zed34")
+"""The keypoints both sides are read through: ZED BODY_34, as the data set was tracked."""
 
 
 def source() -> str:
@@ -99,54 +113,70 @@ def predict(used: pd.DataFrame, bodies: list[BodySpec], task: TaskSpec,
     """The twin's posture for each handover: sized as ``bodies``, the receiving hand's grip at
     the receiver's hand point, solved from standing for ``settings.lattice_iterations``.
 
-    Returns one row per handover: ``hand_error_m``, the twin's :data:`ANGLES` (the receiving
-    side's) and its scores."""
+    Returns one row per handover: ``hand_error_m``; the twin's :data:`ANGLES` (the receiving
+    side's) as the tracker reads them (:func:`tracked_angles`: its points placed as ZED BODY_34
+    and measured as people's were, :data:`CALIBRATED` from its upright posture), each also as
+    ``own_*``, the twin's own definition; and its scores (its own posture's)."""
     settings = settings or SolverSettings()
     points = hand_points(used)
-    rows = []
+    postures, placed, upright, hand_error = [], [], [], []
     for k, (body, hand) in enumerate(zip(bodies, used["receiving_hand"], strict=True)):
         solver = PostureSolver(body, replace(task, hands=hand), settings)
         start = solver.strategy_start("stoop")[None]
         solution = solver.iterate(points[k:k + 1], start, settings.lattice_iterations)
-        columns = posture_columns(solution.state, solver.task)
-        scores = score_postures(Posture(columns), names=SCORES)
-        rows.append({"hand_error_m": float(solution.hand_error[0]),
-                     **{angle: float(columns[f"{hand}_{angle}" if angle in SIDED else angle][0])
-                        for angle in ANGLES},
-                     **{score: int(scores[score][0]) for score in SCORES}})
-    return pd.DataFrame(rows)
+        postures.append(posture_columns(solution.state, solver.task))
+        placed.append(place(solution.state, body, TRACKER, up="z")[0])
+        upright.append(place(solver.model.forward(np.zeros((1, solver.model.nq))), body,
+                             TRACKER, up="z")[0])
+        hand_error.append(float(solution.hand_error[0]))
+    hands = used["receiving_hand"].to_numpy()
+    own = {name: np.concatenate([p[name] for p in postures]) for name in postures[0]}
+    scores = score_postures(Posture(own), names=SCORES)  # every handover at once
+    return pd.concat([tracked_angles(np.stack(placed), np.stack(upright), hands),
+                      pd.DataFrame({"hand_error_m": hand_error,
+                                    **{f"own_{angle}": np.where(
+                                        hands == "left", own[side_column(angle, "left")],
+                                        own[side_column(angle, "right")]) for angle in ANGLES},
+                                    **{score: scores[score].astype(int) for score in SCORES}})],
+                     axis=1)
 
 
-def measured_angles(used: pd.DataFrame) -> pd.DataFrame:
-    """The receivers' :data:`ANGLES` (the receiving side's) [deg]."""
+def side_column(angle: str, hand: str) -> str:
+    """The Posture column of one of :data:`ANGLES` on the receiving ``hand``'s side."""
+    return f"{hand}_{angle}" if angle in SIDED else angle
+
+
+def tracked_angles(points: np.ndarray, neutral: np.ndarray, hands) -> pd.DataFrame:
+    """:data:`ANGLES` (the receiving side's) of (N, 34, 3) ZED BODY_34 points (z up), as the
+    capture layer measures them, :data:`CALIBRATED` less their value in the (N, 34, 3)
+    ``neutral`` points [deg]."""
+    at, zero = capture(points, TRACKER, "z").columns, capture(neutral, TRACKER, "z").columns
+    hands = np.asarray(hands)
     out = {}
     for angle in ANGLES:
-        if angle in SIDED:
-            out[angle] = np.where(used["receiving_hand"] == "left", used[f"left_{angle}"],
-                                  used[f"right_{angle}"])
-        else:
-            out[angle] = used[angle].to_numpy()
+        value = np.where(hands == "left", at[side_column(angle, "left")],
+                         at[side_column(angle, "right")])
+        if angle in CALIBRATED:
+            value = value - np.where(hands == "left", zero[side_column(angle, "left")],
+                                     zero[side_column(angle, "right")])
+        out[angle] = value
     return pd.DataFrame(out)
 
 
-def errors(measured: pd.DataFrame, predicted: pd.DataFrame, groups: np.ndarray,
-           rng: np.random.Generator, resamples: int = 2000) -> pd.DataFrame:
-    """Per group and angle: N, median |predicted - measured| with its 95 % bootstrap interval,
-    RMSE and bias (mean signed difference) [deg]."""
-    rows = []
-    for group in dict.fromkeys(groups):
-        where = np.flatnonzero(groups == group)
-        for angle in ANGLES:
-            diff = (predicted[angle].to_numpy() - measured[angle].to_numpy())[where]
-            diff = diff[np.isfinite(diff)]
-            boot = np.median(np.abs(rng.choice(diff, (resamples, diff.size))), axis=1)
-            rows.append({"group": group, "angle": angle, "n": diff.size,
-                         "median_abs_deg": round(float(np.median(np.abs(diff))), 2),
-                         "median_abs_low": round(float(np.percentile(boot, 2.5)), 2),
-                         "median_abs_high": round(float(np.percentile(boot, 97.5)), 2),
-                         "rmse_deg": round(float(np.sqrt(np.mean(diff ** 2))), 2),
-                         "bias_deg": round(float(np.mean(diff)), 2)})
-    return pd.DataFrame(rows)
+def measured_angles(used: pd.DataFrame, calibrated: bool = True) -> pd.DataFrame:
+    """The receivers' :data:`ANGLES` (the receiving side's) [deg]; :data:`CALIBRATED` less the
+    recording's own neutral (``neutral_*``: its median over its standing frames) unless
+    ``calibrated`` is False."""
+    return pd.DataFrame({angle: receiving_side(used, angle) - (
+        receiving_side(used, angle, "neutral_") if calibrated and angle in CALIBRATED else 0.0)
+        for angle in ANGLES})
+
+
+def receiving_side(used: pd.DataFrame, angle: str, prefix: str = "") -> np.ndarray:
+    """(N,) column ``prefix + angle`` of each handover's receiving side."""
+    left = used["receiving_hand"].to_numpy() == "left"
+    return np.where(left, used[prefix + side_column(angle, "left")],
+                    used[prefix + side_column(angle, "right")]).astype(float)
 
 
 def fit_loss(measured: pd.DataFrame, predicted: pd.DataFrame) -> float:
@@ -242,23 +272,33 @@ def receiving_points(used: pd.DataFrame) -> np.ndarray:
     return points
 
 
+NULL_SHIFT_M = 0.10
+"""How far the null moves every receiving hand, in a random direction."""
+
+
 def recommendation(landscape, people: np.ndarray, twin_scores: pd.DataFrame,
-                   used: pd.DataFrame) -> pd.DataFrame:
+                   used: pd.DataFrame, rng: np.random.Generator) -> pd.DataFrame:
     """Per score: the twin's one-handed optimum (the most symmetric minimiser, and how many
     cells share the minimum), how far each receiving hand was from the nearest minimiser
-    (median and quartiles; the share within one grid step), the twin's own score where people
-    received (median; the share at its optimum) and people's measured score there (median of
-    the interval's ends; the share whose interval holds the twin's optimum value)."""
+    (median and quartiles; the share within one grid step, and that share's null: every hand
+    moved :data:`NULL_SHIFT_M` in a random direction drawn from ``rng``), the twin's own score
+    where people received (median; the share at its optimum) and people's measured score there
+    (median of the interval's ends; the share whose interval holds the twin's optimum
+    value)."""
     from scipy.spatial import cKDTree  # the nearest minimiser of many
 
     from ...landscape.stats import optimum
 
     rows = []
     step = landscape.grid.step
+    direction = rng.normal(size=people.shape)
+    moved = people + NULL_SHIFT_M * direction / np.linalg.norm(direction, axis=1, keepdims=True)
     for score in SCORES:
         cells, best = optimum(landscape, score)
         value = int(landscape.arrays[score][cells[0]])
-        distance, _ = cKDTree(landscape.grid.coordinates(cells)).query(people)
+        tree = cKDTree(landscape.grid.coordinates(cells))
+        distance, _ = tree.query(people)
+        null, _ = tree.query(moved)
         to_best = np.linalg.norm(people - best, axis=1)
         lo, hi = used[f"{score}_lo"].to_numpy(), used[f"{score}_hi"].to_numpy()
         twin = twin_scores[score].to_numpy()
@@ -270,6 +310,7 @@ def recommendation(landscape, people: np.ndarray, twin_scores: pd.DataFrame,
             "distance_p25_m": round(float(np.percentile(distance, 25)), 3),
             "distance_p75_m": round(float(np.percentile(distance, 75)), 3),
             "within_step_share": round(float(np.mean(distance <= step + 1e-9)), 4),
+            "within_step_null_share": round(float(np.mean(null <= step + 1e-9)), 4),
             "to_most_symmetric_median_m": round(float(np.median(to_best)), 3),
             "twin_there_median": float(np.median(twin)),
             "twin_there_at_optimum_share": round(float(np.mean(twin == value)), 4),
