@@ -129,6 +129,16 @@ def test_the_reports_reading_of_the_skill_table_holds():
     assert skill[("line", "upper_arm_flexion")] < 0.05
 
 
+def test_neighbouring_recordings_are_not_alike(table):
+    # The report splits and resamples by recording: the files show no order, each angle's
+    # correlation between neighbouring files (by number) is near zero.
+    number = table["handover"].str.extract(r"_(\d+)$")[0].astype(int)
+    kind = table["handover"].str.contains("variation")
+    ordered = table.assign(number=number, kind=kind).sort_values(["kind", "number"])
+    for angle in ANGLES:
+        assert abs(ordered[f"measured_{angle}"].autocorr(1)) < 0.1, angle
+
+
 def test_the_line_is_least_squares_on_the_training_split_only(table):
     train = table[table["split"] == "train"]
     design = np.column_stack([np.ones(len(table))] + [table[c] for c in INPUTS])

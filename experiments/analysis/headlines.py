@@ -280,7 +280,6 @@ def stance_rows(results: Path) -> list[Headline]:
 
 def people_rows(results: Path) -> list[Headline]:
     manifest = json.loads((results / "people" / "manifest.json").read_text())
-    total = manifest["handovers"] + sum(manifest["dropped"].values())
     held, out = people_tables.pooled(results), people_tables.pooled(results,
                                                                      "out-of-distribution")
     ours = held.loc["line + twin"]
@@ -289,17 +288,16 @@ def people_rows(results: Path) -> list[Headline]:
     return [Headline(
         "people", "beside people", "the-twin-beside-a-thousand-measured-handovers",
         "no measured handover; five VR participants",
-        f"held out, the line + twin predicts receivers' six joint angles with skill "
-        f"{ours['skill']:+.2f} against the constant (RMSE {ours['rmse_deg']:.1f}° against "
-        f"{held.loc['constant', 'rmse_deg']:.1f}°); the straight line alone "
-        f"{held.loc['line', 'skill']:+.2f}",
-        f"{int(ours['n']) // 6} held-out of {manifest['handovers']:,} used handovers "
-        f"({total:,} measured)",
+        f"held out, the twin's angle, with the hand's place and stature in a straight line, "
+        f"predicts receivers' six angles with skill {ours['skill']:+.2f} against the "
+        f"constant (RMSE {ours['rmse_deg']:.1f}° vs {held.loc['constant', 'rmse_deg']:.1f}°)",
+        f"{int(ours['n']) // 6} of {manifest['handovers']:,} handovers",
         f"95 % bootstrap {ours['skill_low']:+.2f} to {ours['skill_high']:+.2f}; noise ceiling "
         f"{ours['ceiling_rmse_deg']:.1f}°",
-        f"the training mean ({held.loc['constant', 'rmse_deg']:.1f}°); the line in hand place "
-        f"and stature ({held.loc['line', 'rmse_deg']:.1f}°)",
-        (f"the twin alone is worse than the constant (skill {held.loc['twin', 'skill']:+.2f})",
+        f"the training mean ({held.loc['constant', 'rmse_deg']:.1f}°); the line without the "
+        f"twin ({held.loc['line', 'rmse_deg']:.1f}°, skill {held.loc['line', 'skill']:+.2f})",
+        (f"the twin alone is worse than the constant (skill {held.loc['twin', 'skill']:+.2f}: "
+         "it stands and looks down, the receivers walk, head up)",
          f"out of distribution skill falls to {out.loc['line + twin', 'skill']:+.2f}",
          f"its scores do not rank people's (REBA Spearman {reba['spearman']:.2f})"), "",
         ("people/skill.csv", "people/ranking.csv", "people/manifest.json"))]

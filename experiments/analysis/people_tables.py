@@ -141,10 +141,12 @@ def calibration_text(results: Path) -> str:
 
     return (f"Standing (both knees within 10° of straight), the tracker reads the receivers at a "
             f"median of {medians('neutral_')}: the zero of its skeleton rather than a posture "
-            f"(the trunk leans back in every recording). Each recording's trunk, neck and knee "
-            f"flexion are read from its own standing median, the twin's from its upright posture "
-            f"through the same keypoints. So read, at the transfer the receivers hold "
-            f"{medians('measured_')} (medians), the twin {medians('twin_')}")
+            f"(the trunk reads leaning back in "
+            f"{100 * (table['neutral_trunk_flexion'] < 0).mean():.0f} % of the recordings). "
+            f"Each recording's trunk, neck and knee flexion are read from its own standing "
+            f"median, the twin's from its upright posture through the same keypoints. So read, "
+            f"at the transfer the receivers hold {medians('measured_')} (medians), the twin "
+            f"{medians('twin_')}")
 
 
 def skill_table(results: Path) -> list[str]:
@@ -159,14 +161,14 @@ def skill_table(results: Path) -> list[str]:
             "|---|" + "---|" * (len(PREDICTOR_NAMES) + 1)]
         for angle, name in (*ANGLE_NAMES.items(), (ALL, "all six angles")):
             cells = [f"{skill.loc[(group, p, angle), 'rmse_deg']:.1f}° "
-                     f"({_skill(skill.loc[(group, p, angle)])})" if p != "constant"
+                     f"[{_skill(skill.loc[(group, p, angle)])}]" if p != "constant"
                      else f"{skill.loc[(group, p, angle), 'rmse_deg']:.1f}°"
                      for p in PREDICTOR_NAMES]
             ceiling = skill.loc[(group, "constant", angle), "ceiling_rmse_deg"]
             lines.append(f"| {name} | " + " | ".join(cells) + f" | {ceiling:.1f}° |")
         lines.append("")
-    return [*lines, "Each cell: RMSE (skill against the constant, 1 − MSE/MSE(constant), with "
-            "its 95 % bootstrap interval over handovers). Noise ceiling: the root mean square "
+    return [*lines, "Each cell: RMSE [skill against the constant, 1 − MSE/MSE(constant) (its "
+            "95 % bootstrap interval over handovers)]. Noise ceiling: the root mean square "
             "of each angle's spread over the frames within 0.1 s of the transfer."]
 
 

@@ -92,7 +92,7 @@ QUESTIONS = (
     Question("people", ("landscape",), {
         "handovers.csv": (), "skill.csv": (), "fit.csv": (), "locations.csv": (),
         "receiving.csv": (), "ranking.csv": (), "recommendation.csv": (),
-        "study_task.csv": ()}, 75, True, "fig_people"),
+        "study_task.csv": ()}, 200, True, "fig_people"),
     Question("manikins", ("robustness",), {"manikins.csv": ()}, 15),
     Question("accommodation", ("robustness",), {
         "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600, True,
