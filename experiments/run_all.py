@@ -5,7 +5,8 @@ twin's code: a fresh clone reuses every committed part and only rebuilds the fig
 tables (half a minute); --force recomputes every part (the README gives the committed run's
 time on 2 cores; a run prints its estimate first) but reuses the landscapes this twin already
 has in the cache ($ERGOHANDOVER_CACHE; empty it to time a run from scratch); an interrupted
-run resumes at the first unfinished part.
+run resumes at the first unfinished part. One run at a time holds a results folder: a second
+on the same --results is refused in one line naming the first.
 
 Parts, in order:
   landscape     the exhaustive sweep of the default worker (the paper's 3-hour evaluation)
@@ -62,6 +63,7 @@ from pathlib import Path
 from ergohandover.errors import ErgohandoverError
 from ergohandover.executor import clean_stop
 from ergohandover.io.atomic import OutputError, check_writable
+from ergohandover.io.holder import hold
 from ergohandover.study.registry import PARTS, QUESTIONS, part, question, run_order
 from ergohandover.study.resume import is_done
 from ergohandover.study.script import add_study_arguments, duration, fail, study_from_args
@@ -118,6 +120,16 @@ def main(argv: list[str] | None = None) -> int:
             check_writable(folder, folder=True)
         except OutputError as exc:
             fail(OutputError(f"{flag} {exc}"))
+    try:  # one run at a time on a results folder: a second is refused before it reads it
+        with hold(results, f"--results {results}", "wait for that run to end, or give "
+                  "another --results"):
+            return run_study(args, config, engine, results, figures, mode)
+    except ErgohandoverError as exc:
+        fail(exc)
+
+
+def run_study(args, config, engine, results: Path, figures: Path, mode: str) -> int:
+    """Run what --only names (every part by default) into ``results``, held by this run."""
     # What --only names, with every question it needs (reused when finished), in run order.
     named = args.only or list(STEPS)
     steps = [*run_order([p for p in named if p != "figures"]),

@@ -323,9 +323,7 @@ def resolve(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..search.answers import AnswerReader, PreferenceReader
-    from ..search.oracles import AnswersEnded
-    from ..search.session import run as run_session
+    from ..io.holder import hold
 
     started = time.perf_counter()
     evaluator, grid, prior, searcher, settings = resolve(args)
@@ -334,6 +332,22 @@ def run(args: argparse.Namespace) -> int:
     if new_folder:  # only now, every flag checked: a folder of its own
         output = run_folder("personalise")
         state = output / STATE
+    # One session at a time on a state (and its output folder): a second is refused before
+    # it reads the state, so neither overwrites the other's answers.
+    held, named = (state, f"--state {args.state}") if args.state else (
+        output, f"--output {args.output}" if args.output else str(output))
+    with hold(held, named, "wait for that session to end, or give another --output"):
+        return converse(args, started, evaluator, grid, prior, searcher, settings, output,
+                        state, new_folder)
+
+
+def converse(args, started, evaluator, grid, prior, searcher, settings, output: Path,
+             state: Path, new_folder: bool) -> int:
+    """The session itself, its state held by this process: propose, hear, save, report."""
+    from ..search.answers import AnswerReader, PreferenceReader
+    from ..search.oracles import AnswersEnded
+    from ..search.session import run as run_session
+
     session = open_session(args, state, settings, searcher)
     task = evaluator.task
     reader = PreferenceReader() if args.answers == "pairwise" else AnswerReader(
