@@ -404,6 +404,10 @@ BAD = {  # case -> (tmp_path -> argv, what the line says; {file}: the file as ty
                          "--frames 3:2: expected frame numbers >= 1 with A <= B"),
     "assume unknown column": (lambda t: [*example("h36m17"), "--assume", "nosuch=1"],
                               "--assume nosuch=1: expected COLUMN=VALUE with a Posture column"),
+    "assume a column misspelt": (lambda t: [*example("h36m17"), "--assume", "trunk_flex=10"],
+                                 "--assume trunk_flex=10: expected COLUMN=VALUE with a Posture "
+                                 "column (docs/architecture.md, \"File contracts\"); did you "
+                                 "mean trunk_flexion"),
     "assume impossible value": (lambda t: [*example("h36m17"), "--assume",
                                            "left_wrist_flexion=500"],
                                 "--assume left_wrist_flexion=500: '500' is not allowed for "

@@ -370,6 +370,20 @@ def test_a_bad_file_is_one_line_naming_it(tmp_path, capsys, case):
         assert f"--landscape {shlex.quote(str(path))}: " in err
 
 
+def test_a_utf16_file_reads_as_its_utf8_twin(tmp_path, capsys):
+    # Spreadsheets save "Unicode text" as UTF-16 with a byte-order mark: read, not refused.
+    text = EXAMPLE.read_text(encoding="utf-8")
+    outputs = []
+    for encoding in ("utf-8", "utf-16"):
+        source = tmp_path / f"{encoding}.csv"
+        source.write_text(text, encoding=encoding)
+        assert main(["score", "--input", str(source), "--output",
+                     str(tmp_path / f"{encoding}-scored.csv")]) == 0
+        outputs.append((tmp_path / f"{encoding}-scored.csv").read_text())
+    assert outputs[0] == outputs[1]
+    assert (tmp_path / "utf-16.csv").read_bytes()[:2] in (b"\xff\xfe", b"\xfe\xff")
+
+
 def test_a_file_in_the_way_of_an_output_is_refused_before_anything_runs(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("")

@@ -90,6 +90,7 @@ DECLARED = headlines.headlines(RESULTS)
 
 def test_the_headline_table_is_the_declared_headlines_rendered_from_results():
     assert readme_blocks.block("headlines") == headlines.blocks(RESULTS)["headlines"]
+    assert readme_blocks.block("recommendation") == headlines.blocks(RESULTS)["recommendation"]
     assert list(headline_rows()) == [h.label for h in DECLARED]
 
 

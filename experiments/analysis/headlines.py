@@ -400,8 +400,30 @@ def report_table(results: Path) -> list[str]:
     return lines
 
 
+def recommendation(results: Path) -> str:
+    """The README's first answer, in words: where the study's worker should be handed the box
+    (the landscape's most central location of the paper score's minimum), and the frame."""
+    stats = pd.read_csv(results / "landscape" / "stats.csv").set_index("score")
+    best = stats.loc["paper_postural"]
+    worker = pd.read_csv(results / "learning" / "targets.csv").set_index("target").loc[
+        "paper", "worker"]
+    x, y, z = (100 * float(best[f"best_{a}"]) for a in "xyz")
+    side = "left" if x < 0 else "right"
+    return (f"**What it recommends.** For the study's worker ({worker}: the 50th-percentile man "
+            f"of the ANSUR II survey) taking the box in both hands: hand the box over with its "
+            f"centre {y / 100:.2f} m above the floor, {z:.0f} cm in front of the point midway "
+            f"between the worker's feet, centred ({abs(x):.1f} cm to the {side}), the most "
+            f"central of the locations where the paper's score is lowest "
+            f"({int(best['min'])}). Every location in this README, the report and every CSV, "
+            f"flag and figure is in that worker's frame (the paper's Unity convention): origin "
+            f"on the floor midway between the feet, x to the worker's right, y up, z forward, in "
+            f"metres (angles in degrees, masses in kg), so this one is ({x / 100:.3f}, "
+            f"{y / 100:.3f}, {z / 100:.3f}).")
+
+
 def blocks(results: Path) -> dict[str, str]:
-    return {"headlines": "\n" + "\n".join(readme_table(results)) + "\n",
+    return {"recommendation": recommendation(results),
+            "headlines": "\n" + "\n".join(readme_table(results)) + "\n",
             "headline-rules": "\n" + "\n".join(report_table(results)) + "\n"}
 
 

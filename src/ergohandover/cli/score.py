@@ -72,8 +72,12 @@ def assumption(text: str) -> tuple[str, float]:
 
     name, sep, value = text.partition("=")
     if not sep or name not in COLUMN_BY_NAME:
+        import difflib
+
+        close = difflib.get_close_matches(name, list(COLUMN_BY_NAME), n=3) if sep else []
+        hint = f"; did you mean {' or '.join(close)}?" if close else ""
         raise BadValue(text, "expected COLUMN=VALUE with a Posture column (docs/architecture.md, "
-                       "\"File contracts\")")
+                       f"\"File contracts\"){hint}")
     try:
         number_value = float(value)
     except ValueError:

@@ -7,6 +7,7 @@ encoding is named with what is wrong, not answered with a codec's or a tokenizer
 
 from __future__ import annotations
 
+import codecs
 import csv
 import io
 import os
@@ -46,8 +47,16 @@ def read_bytes(source: str | os.PathLike, what: str, kind: str = "a CSV file") -
 
 
 def decode_text(data: bytes, what: str, kind: str = "CSV") -> str:
-    """``data`` as UTF-8 text (a byte-order mark allowed); binary data is an InputError
-    (``kind``: the text's kind, for the message)."""
+    """``data`` as UTF-8 text (a byte-order mark allowed), or UTF-16 text with its byte-order
+    mark (as spreadsheets save "Unicode text"); binary data is an InputError (``kind``: the
+    text's kind, for the message)."""
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        try:
+            return data.decode("utf-16")
+        except UnicodeDecodeError as exc:
+            raise InputError(f"{what} starts as UTF-16 text but is not (bytes at position "
+                             f"{exc.start}): expected a {kind} file saved as UTF-8 or "
+                             "UTF-16") from None
     zero = data.find(b"\0")
     if zero >= 0:
         raise InputError(f"{what} is a binary file, not a {kind} text file (a zero byte at "
