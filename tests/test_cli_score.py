@@ -125,6 +125,23 @@ def test_empty_inputs_exit_2(tmp_path, content, message):
     assert not (tmp_path / "out.csv").exists()
 
 
+def test_keypoint_output_with_unseen_columns_is_refused_with_the_way_out(tmp_path):
+    # ZED BODY_34 cannot see the wrists: `score --keypoints` leaves those cells empty, and
+    # `score --input` on its output names where they come from and the flag that fills them.
+    scored = tmp_path / "keypoints-scored.csv"
+    keypoints = EXAMPLE.parent / "keypoints" / "zed34.npz"
+    assert main(["score", "--keypoints", str(keypoints), "--format", "zed34", "--output",
+                 str(scored)]) == 0
+    again = run_cli("score", "--input", str(scored), "--output", str(tmp_path / "again.csv"))
+    assert again.returncode == 2
+    line = again.stderr.strip()
+    assert "\n" not in line and ": an empty cell is not a number" in line
+    assert line.endswith("an empty cell is a column the capture could not see (`score "
+                         "--keypoints` leaves them empty): score the keypoints again with "
+                         "--assume COLUMN=VALUE, or fill the column")
+    assert not (tmp_path / "again.csv").exists()
+
+
 def test_a_missing_input_exits_2_and_a_missing_output_folder_is_created(tmp_path):
     result = run_cli("score", "--input", str(tmp_path / "nope.csv"), "--output", "-")
     assert result.returncode == 2 and "nope.csv does not exist" in result.stderr

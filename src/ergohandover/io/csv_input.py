@@ -122,7 +122,7 @@ def read_csv_text(source: str | os.PathLike | IO[str], what: str) -> pd.DataFram
 
 
 def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str],
-                    what: str = "input") -> dict[str, np.ndarray]:
+                    what: str = "input", empty: str = "") -> dict[str, np.ndarray]:
     """The named text columns as float arrays; a cell that is not a number is an error.
 
     Args:
@@ -130,6 +130,7 @@ def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str],
         allowed: column name -> what the column allows (quoted in messages); columns absent
             from ``frame`` are skipped.
         what: how to name the input in messages (its file name).
+        empty: what an empty cell's message adds (where such a file usually comes from).
     """
     out = {}
     for name, expected in allowed.items():
@@ -144,7 +145,7 @@ def numeric_columns(frame: pd.DataFrame, allowed: Mapping[str, str],
             cell = text.iloc[row]
             shown = repr(cell) if cell else "an empty cell"
             raise InputError(f"{what}: row {row + 1}, column '{name}': {shown} is not a number "
-                             f"(expected {expected})")
+                             f"(expected {expected})" + (empty if not cell else ""))
         out[name] = values
     return out
 

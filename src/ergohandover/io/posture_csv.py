@@ -15,6 +15,12 @@ import pandas as pd
 from ..ergonomics.posture import COLUMNS, Posture, PostureError
 from .csv_input import numeric_columns, read_csv_text
 
+UNSEEN_HINT = ("; an empty cell is a column the capture could not see (`score --keypoints` "
+               "leaves them empty): score the keypoints again with --assume COLUMN=VALUE, or "
+               "fill the column")
+"""What a Posture CSV's empty cell is refused with: where such cells come from, and the way
+out."""
+
 
 def read_postures(source: str | os.PathLike | IO[str],
                   what: str = "input") -> tuple[pd.DataFrame, Posture]:
@@ -33,7 +39,8 @@ def read_postures(source: str | os.PathLike | IO[str],
     """
     frame = read_csv_text(source, what)
     try:
-        posture = Posture(numeric_columns(frame, {c.name: c.allowed for c in COLUMNS}, what))
+        posture = Posture(numeric_columns(frame, {c.name: c.allowed for c in COLUMNS}, what,
+                                          UNSEEN_HINT))
     except PostureError as exc:  # the posture's own checks name the row and column, not the file
         raise PostureError(f"{what}: {exc}", exc.row, exc.column, exc.value) from None
     return frame, posture
