@@ -4,6 +4,7 @@ points, and every kind of bad file answered with one line naming the file and wh
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -381,14 +382,41 @@ def test_no_frames():
         "run.npy has no frames"
 
 
-def test_a_40_m_tall_body(placed):
+def test_a_40_m_tall_body(here, placed):
     points = placed["coco17"] * 30
     height = np.median(np.ptp(points[..., 1], axis=1))
     assert 30 < height < 50
     message = one_line(lambda: check_keypoints(keypoints(points), "-y", "unseen", "run.npy"))
-    assert message.startswith(f"run.npy: the body is {height:.1f} m tall (the median extent of "
-                              f"its points along the up axis y): expected 0.3-3 m")
-    assert message.endswith("are the keypoints in metres? (--units cm|mm)")
+    assert message.startswith(f"run.npy: the body is {height:.3g} m tall read as --units m (the "
+                              f"median extent of its points along the up axis y): expected "
+                              f"0.3-3 m")
+    # The unit it suggests makes the body 1.7 m tall: near the 1/30 it was scaled by (a hint:
+    # COCO-17's points stop short of the head's top).
+    suggested = re.search(r"\(--units ([\d.e-]+);", message).group(1)
+    assert float(suggested) == pytest.approx(1.7 / height, rel=1e-2)
+    assert 1 / 30 < float(suggested) < 1.5 / 30
+    assert message.endswith("m, cm and mm are 1, 0.01 and 0.001)")
+    np.save("run.npy", points)
+    kp = read_keypoints("run.npy", FORMATS["coco17"], units=suggested)
+    check_keypoints(kp, "-y", "unseen", "run.npy", suggested)  # now the size of a person
+
+
+def test_a_height_just_outside_the_range_is_never_printed_inside_it(placed):
+    points = placed["coco17"]
+    height = np.median(np.ptp(points[..., 1], axis=1))
+    tiny = points * (0.29999 / height)
+    message = one_line(lambda: check_keypoints(keypoints(tiny), "-y", "unseen", "run.npy"))
+    assert "the body is 0.29999 m tall" in message
+
+
+def test_a_unit_may_be_a_number_of_metres(here, placed):
+    fmt, points = FORMATS["h36m17"], placed["h36m17"]
+    np.save("inches.npy", points / 0.0254)
+    kp = read_keypoints("inches.npy", fmt, units="0.0254")
+    np.testing.assert_allclose(kp.points, points, rtol=1e-12, atol=1e-12)
+    for bad in ("0", "-1", "inch", "nan"):
+        assert "are not allowed (use m, cm, mm, or the metres one unit" in one_line(
+            lambda bad=bad: read_keypoints("inches.npy", fmt, units=bad))
 
 
 def test_upside_down_body(placed):

@@ -367,10 +367,15 @@ BAD = {  # case -> (tmp_path -> argv, what the line says; {file}: the file as ty
                        "{file}: frame 5, joint 'head' has an infinite coordinate"),
     "40 m tall": (lambda t: ["--keypoints", str(npy(t, 25 * np.load(KEYPOINTS / "zed34.npz")[
         "keypoints"])), "--format", "zed34"],
-                  "{file}: the body is 41.3 m tall (the median extent of its points along the "
-                  "up axis z): expected 0.3-3 m; are the keypoints in metres? (--units cm|mm)"),
+                  "{file}: the body is 41.3 m tall read as --units m (the median extent of its "
+                  "points along the up axis z): expected 0.3-3 m; is the up axis right (--up), "
+                  "and what is the file's unit? A 1.7 m body would make one unit 0.0412 m "
+                  "(--units 0.0412; m, cm and mm are 1, 0.01 and 0.001)"),
     "bvh in cm read as m": (lambda t: example("bvh")[:4],
-                            "{file}: the body is 173.5 m tall"),
+                            "{file}: the body is 174 m tall read as --units m"),
+    "units not a unit": (lambda t: [*example("h36m17"), "--units", "inch"],
+                         "--units inch: not a unit (expected m, cm, mm, or the metres one unit "
+                         "of the file is, a number above 0)"),
     "bvh without an elbow": (lambda t: ["--keypoints", str(bvh(t, lambda s: s.replace(
         "LeftForeArm", "LeftLowerArm"))), "--format", "bvh", "--units", "cm"],
                              "{file}: no joint for the left elbow (looked for LeftForeArm, "

@@ -7,24 +7,39 @@ from __future__ import annotations
 import numpy as np
 
 from .formats import UP_AXES, z_up
-from .readers import KeypointFileError, Keypoints
+from .readers import KeypointFileError, Keypoints, unit_scale
 
 MISSING = ("error", "unseen")
 """What a missing point does (:func:`check_keypoints`)."""
 
 MIN_HEIGHT_M, MAX_HEIGHT_M = 0.3, 3.0
 """The body's extent along the up axis that a file in metres gives (median over frames)."""
+TYPICAL_HEIGHT_M = 1.7
+"""A standing adult's extent along the up axis, for the hint of which unit fits a file: between
+ANSUR II's 50th-percentile woman and man (1.63 and 1.76 m stature); the hint is approximate by
+design."""
 
 MAX_LYING_RATIO = 1.5
 """A body whose horizontal extent is more than this many times its extent along the up axis
 lies across it: the up axis is wrong."""
 
 
+def _outside(height: float) -> str:
+    """``height`` with the digits that keep it outside the allowed range as printed (0.2999 is
+    not shown as 0.3, which the message says is allowed)."""
+    for digits in range(3, 10):
+        shown = f"{height:.{digits}g}"
+        if not MIN_HEIGHT_M <= float(shown) <= MAX_HEIGHT_M:
+            return shown
+    return repr(height)
+
+
 def _flip(up: str) -> str:
     return up[1:] if up.startswith("-") else f"-{up}"
 
 
-def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarray:
+def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
+                    units: str = "m") -> np.ndarray:
     """Check keypoints before they are scored.
 
     Args:
@@ -33,6 +48,8 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarr
         missing: ``error`` (a missing point is an error) or ``unseen`` (the columns the missing
             points decide are unseen in their frames).
         what: the file's name as the user typed it (messages start with it).
+        units: the unit the file was read in (a body of the wrong size is told the unit that
+            would fit it).
 
     Returns:
         (N,) bool: the frames with a missing (NaN) point.
@@ -73,11 +90,15 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str) -> np.ndarr
     height = float(np.median(extent[:, 2]))
     axis = up.lstrip("-")
     if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:
-        hint = ("are the keypoints in metres? (--units cm|mm)" if height > MAX_HEIGHT_M else
-                "is the up axis right (--up), and are the keypoints in metres (--units)?")
+        # What one file unit would be for a body of typical height: the --units that fits.
+        per_unit = TYPICAL_HEIGHT_M / height / unit_scale(units, what)
+        hint = (f"is the up axis right (--up), and what is the file's unit? A "
+                f"{TYPICAL_HEIGHT_M:g} m body would make one unit {per_unit:.3g} m "
+                f"(--units {per_unit:.3g}; m, cm and mm are 1, 0.01 and 0.001)")
         raise KeypointFileError(
-            f"{what}: the body is {height:.1f} m tall (the median extent of its points along "
-            f"the up axis {axis}): expected {MIN_HEIGHT_M:g}-{MAX_HEIGHT_M:g} m; {hint}")
+            f"{what}: the body is {_outside(height)} m tall read as --units {units} (the median "
+            f"extent of its points along the up axis {axis}): expected {MIN_HEIGHT_M:g}-"
+            f"{MAX_HEIGHT_M:g} m; {hint}")
     across = float(np.median(extent[:, :2].max(axis=1)))
     if across > MAX_LYING_RATIO * height:
         raise KeypointFileError(

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import zipfile
 from dataclasses import dataclass
@@ -63,11 +64,20 @@ class Keypoints:
 
 
 def unit_scale(units: str, what: str) -> float:
-    """How many ``units`` make a metre; a KeypointFileError for a unit that is not allowed."""
-    if units not in UNITS:
-        raise KeypointFileError(f"{what}: units {units!r} are not allowed "
-                                f"(use {', '.join(UNITS)})")
-    return UNITS[units]
+    """How many ``units`` make a metre: ``m``, ``cm``, ``mm``, or a positive number, the metres
+    one file unit is (a rig's own unit: CMU's is 0.0254 / 0.45); a KeypointFileError for
+    anything else."""
+    if units in UNITS:
+        return UNITS[units]
+    try:
+        metres = float(units)
+    except ValueError:
+        metres = math.nan
+    if not (math.isfinite(metres) and metres > 0):
+        raise KeypointFileError(f"{what}: units {units!r} are not allowed (use "
+                                f"{', '.join(UNITS)}, or the metres one unit of the file is, "
+                                "e.g. 0.0254 for inches)")
+    return 1.0 / metres
 
 
 def read_file_bytes(path: str, what: str, kind: str) -> bytes:

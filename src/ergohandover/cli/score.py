@@ -4,6 +4,7 @@ as captured 3D keypoints, or as a rater's worksheet items."""
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import textwrap
 
@@ -90,6 +91,22 @@ def assumption(text: str) -> tuple[str, float]:
     return name, number_value
 
 
+def length_unit(text: str) -> str:
+    """``m``, ``cm``, ``mm`` or a positive number: the metres one unit of the file is."""
+    from ..capture.readers import UNITS
+
+    if text in UNITS:
+        return text
+    try:
+        metres = float(text)
+    except ValueError:
+        metres = math.nan
+    if not (math.isfinite(metres) and metres > 0):
+        raise BadValue(text, "not a unit (expected m, cm, mm, or the metres one unit of the "
+                       "file is, a number above 0)")
+    return text
+
+
 def frame_range(text: str) -> tuple[int, int]:
     """``A:B`` (frames A to B, 1-based, inclusive; either may be left out) or ``N``."""
     first, sep, last = text.partition(":")
@@ -128,8 +145,9 @@ def add_parser(subparsers) -> None:
     capture.add_argument("--up", type=choice(("x", "-x", "y", "-y", "z", "-z")), metavar="AXIS",
                          help="the axis that points up in the file (default: the format's: "
                          "-y for h36m17, coco17, mediapipe33; z for zed34; y for smpl24, bvh)")
-    capture.add_argument("--units", type=choice(("m", "cm", "mm")), default="m",
-                         metavar="m|cm|mm", help="the keypoints' unit (default: m)")
+    capture.add_argument("--units", type=length_unit, default="m", metavar="m|cm|mm|METRES",
+                         help="the keypoints' unit: m, cm, mm, or the metres one unit of the "
+                         "file is (e.g. 0.0254 for inches; default: m)")
     capture.add_argument("--frames", type=frame_range, metavar="A:B",
                          help="score frames A to B only (1-based, inclusive; A:, :B or N)")
     capture.add_argument("--missing", type=choice(("error", "unseen")), default="error",
@@ -244,7 +262,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
             raise InputError(f"--frames {args.frames[0]}:{last}: {typed} has frames "
                              f"{kp.frames.min()}-{kp.frames.max()}")
         kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
-    missing = check_keypoints(kp, up, args.missing, typed)
+    missing = check_keypoints(kp, up, args.missing, typed, args.units)
     assume = dict(args.assume or [])
     if args.load_kg is not None:
         if "load_kg" in assume:
