@@ -204,6 +204,10 @@ OUTPUT = {"score": "file", "evaluate": "file", "robustness": "file", "baseline":
           "personalise": "dir", "report": "dir"}
 OUTPUT_FLAG = {"view": "--export"}  # the viewer serves; what it writes is a recording
 BAD_FLAGS = [
+    # A location in centimetres, given as metres: refused, not reported 100 m up.
+    (["report", "--location", "0,100,41"],
+     "--location 0,100,41: beyond any reach (3 m on an axis; locations are in metres, worker "
+     "frame): centimetres? then 0,1,0.41"),
     (["evaluate", "--points", "POINTS", "--stature", "-1.7"],
      f"--stature -1.7: outside {rule(*STATURE_RANGE_M, 'm')}"),
     (["evaluate", "--points", "POINTS", "--mass", "20"],
@@ -343,6 +347,11 @@ FILE_CASES = {
                     "has a header but no rows"),
     "wrong columns": (["evaluate", "--points", "FILE"], written("x,y\n0,1\n"),
                       "is missing required column 'z'"),
+    "points in centimetres": (["evaluate", "--points", "FILE"],
+                              written("x,y,z\n0,1,0.4\n0,100,41\n10,120,30\n"),
+                              ": row 2: 0,100,41 is beyond any reach (3 m on an axis; locations "
+                              "are in metres, worker frame): centimetres? then 0,1,0.41 (2 such "
+                              "rows)"),
     "bad cell": (["evaluate", "--points", "FILE"], written("x,y,z\n0,1,abc\n"),
                  ": row 1, column 'z': 'abc' is not a number"),
     "bad posture": (["score", "--input", "FILE"], written(bad_coupling()),

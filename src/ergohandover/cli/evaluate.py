@@ -32,7 +32,7 @@ from .options import (
     run_folder,
     writable,
 )
-from .values import output_file, output_folder
+from .values import REACH_M, beyond_reach, output_file, output_folder
 
 DESCRIPTION = f"""\
 Evaluate box locations: for each row of --points (columns x, y, z: the box centre in the worker
@@ -78,6 +78,11 @@ def read_points(source: str) -> np.ndarray:
         row, col = bad[0]
         raise InputError(f"{what}: row {row + 1}, column '{'xyz'[col]}': {points[row, col]:g} "
                          f"is not allowed (expected {LOCATION})")
+    far = np.flatnonzero(np.abs(points).max(axis=1) > REACH_M)
+    if far.size:
+        row = int(far[0])
+        raise InputError(f"{what}: row {row + 1}: {','.join(f'{v:g}' for v in points[row])} is "
+                         f"{beyond_reach(points[row])} ({far.size} such rows)")
     return points
 
 

@@ -21,7 +21,7 @@ from .options import (
     lift_from_args,
     run_folder,
 )
-from .values import BadValue, output_folder
+from .values import BadValue, beyond_reach, output_folder
 
 RESULTS = ROOT / "results"
 """The study's results in the checkout, wherever the command runs from."""
@@ -43,6 +43,9 @@ def location(text: str) -> tuple[float, float, float]:
     if len(values) != 3 or not all(np.isfinite(values)):
         raise BadValue(text, "expected X,Y,Z: three finite coordinates in metres (worker "
                        "frame: x right, y up, z forward)")
+    far = beyond_reach(values)
+    if far:
+        raise BadValue(text, far)
     return values
 
 

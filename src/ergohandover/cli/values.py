@@ -78,6 +78,22 @@ def number(lo: float | None = None, hi: float | None = None, unit: str = "",
     return check
 
 
+REACH_M = 3.0
+"""Beyond this on any axis of the worker frame [m] no box is handed to a standing worker: wider
+than anyone stands or reaches, so that only a unit mistake (centimetres given as metres) trips
+it."""
+
+
+def beyond_reach(values: Sequence[float]) -> str | None:
+    """Why a worker-frame location [m] is refused (further than :data:`REACH_M` on an axis,
+    with its reading in centimetres), or None."""
+    if max(abs(v) for v in values) <= REACH_M:
+        return None
+    metres = ",".join(f"{v / 100:g}" for v in values)
+    return (f"beyond any reach ({REACH_M:g} m on an axis; locations are in metres, worker "
+            f"frame): centimetres? then {metres}")
+
+
 def choice(options: Sequence[str]) -> Callable[[str], str]:
     """One of ``options``, spelled exactly."""
     def check(text: str) -> str:
