@@ -474,7 +474,12 @@ def test_a_missing_point_declared_unseen_scores_its_frame_with_those_columns_ope
     whole = score(tmp_path, *example("h36m17"), name="whole.csv")
     capsys.readouterr()
     table = score(tmp_path, *wide(path), "--missing", "unseen", name="gap.csv")
-    assert "1 with missing points" in capsys.readouterr().err
+    summary = capsys.readouterr().err
+    assert "1 with missing points" in summary
+    # The summary names what was not measured: always (H36M-17 has no hand points), and in
+    # the one frame of six that misses its left wrist.
+    assert "; unseen in every frame: neck_twist, left_wrist_flexion, " in summary
+    assert "; unseen in some frames: " in summary and "left_elbow_flexion (17 %)" in summary
     others = [0, 1, 3, 4, 5]
     pd.testing.assert_frame_equal(table.iloc[others], whole.iloc[others])
     before, after = (set(t.loc[2, "unseen"].split(";")) for t in (whole, table))

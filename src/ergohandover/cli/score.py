@@ -286,7 +286,19 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     shown = ", ".join(map(str, kp.frames[missing][:10])) + (", …" if missing.sum() > 10 else "")
     note = f"; {int(missing.sum())} with missing points (frames {shown})" if missing.any() else ""
     return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}, up {up}): "
-                   f"{len(table) - open_rows} with every column measured{note}")
+                   f"{len(table) - open_rows} with every column measured{note}"
+                   f"{unseen_note(captured.unseen)}")
+
+
+def unseen_note(unseen: np.ndarray) -> str:
+    """What a capture did not measure, for its summary line: the columns unseen in every frame,
+    and those unseen in some with the share of frames (``unseen``: frames x POSTURE_COLUMNS)."""
+    share = unseen.mean(axis=0)
+    always = [c for c, f in zip(POSTURE_COLUMNS, share, strict=True) if f == 1.0]
+    some = [f"{c} ({100 * f:.0f} %)" for c, f in zip(POSTURE_COLUMNS, share, strict=True)
+            if 0.0 < f < 1.0]
+    return ("".join([f"; unseen in every frame: {', '.join(always)}" if always else "",
+                     f"; unseen in some frames: {', '.join(some)}" if some else ""]))
 
 
 def item_scores(source: str) -> tuple[pd.DataFrame, str]:
