@@ -413,6 +413,11 @@ BAD = {  # case -> (tmp_path -> argv, what the line says; {file}: the file as ty
                                  "--assume trunk_flex=10: expected COLUMN=VALUE with a Posture "
                                  "column (docs/architecture.md, \"File contracts\"); did you "
                                  "mean trunk_flexion"),
+    "assume a measured column": (lambda t: [*example("h36m17"), "--assume",
+                                            "left_knee_flexion=90"],
+                                 "--assume left_knee_flexion=90: left_knee_flexion is measured "
+                                 "in 6 of 6 frames: an assumed value fills only a column the "
+                                 "capture cannot see"),
     "assume impossible value": (lambda t: [*example("h36m17"), "--assume",
                                            "left_wrist_flexion=500"],
                                 "--assume left_wrist_flexion=500: '500' is not allowed for "

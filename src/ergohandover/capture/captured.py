@@ -11,9 +11,19 @@ import numpy as np
 
 from ..ergonomics import Posture, ScoringSettings, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS
+from ..errors import ErgohandoverError
 from .angles import measure
 from .formats import KeypointFormat
 from .unseen import SCORES, score_distributions, score_intervals
+
+
+class MeasuredColumnError(ErgohandoverError, ValueError):
+    """A value assumed for a column the keypoints measure; the message is one line."""
+
+    def __init__(self, message: str, column: str):
+        super().__init__(message)
+        self.column = column
+
 
 MODES = ("interval", "prior")
 """How unseen columns enter the scores: the interval over their plausible ranges, or the
@@ -48,13 +58,19 @@ def capture(points: np.ndarray, fmt: KeypointFormat, up: str | None = None,
         up: their up axis (default: the format's).
         assume: column -> a value the user knows, for every frame (a task factor such as
             ``load_kg``, or an angle the capture cannot see). Task factors not assumed take the
-            Posture defaults (``ergohandover score --help``).
+            Posture defaults (``ergohandover score --help``). A column the keypoints measure
+            in any frame is a :class:`MeasuredColumnError`.
 
     Returns:
         The columns and the unseen mask.
     """
     measured = measure(points, fmt, up)
     n = len(points)
+    for name in assume or {}:
+        seen = int(np.isfinite(measured[name]).sum()) if name in measured else 0
+        if seen:  # an assumption fills what the capture cannot see, never a measurement
+            raise MeasuredColumnError(f"{name} is measured in {seen} of {n} frames: an assumed "
+                                      "value fills only a column the capture cannot see", name)
     given = {name: np.zeros(n) for name in REQUIRED_COLUMNS}  # replaced by what is measured
     given |= measured
     given |= {name: np.full(n, float(value)) for name, value in (assume or {}).items()}

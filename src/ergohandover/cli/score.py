@@ -244,6 +244,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
                     ) -> tuple[pd.DataFrame, str]:
     """The table of ``--keypoints`` and what it holds, every check made before scoring."""
     from ..capture import capture, capture_scores, keypoint_format
+    from ..capture.captured import MeasuredColumnError
     from ..capture.checks import check_keypoints
     from ..capture.readers import read_keypoints
 
@@ -268,7 +269,10 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
         if "load_kg" in assume:
             raise InputError("--load-kg and --assume load_kg=... both given: give one")
         assume["load_kg"] = args.load_kg
-    captured = capture(kp.points, kp.fmt, up, assume)
+    try:
+        captured = capture(kp.points, kp.fmt, up, assume)
+    except MeasuredColumnError as exc:
+        raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
     scores = capture_scores(captured, settings, args.unseen, np.random.default_rng(args.seed),
                             args.draws)
     table = pd.DataFrame({"frame": kp.frames})
