@@ -75,7 +75,9 @@ def angles() -> None:
                  "handovers not used by the fit)", fontsize=10)
     fig.tight_layout()
     caption(fig, "Each dot a handover: the twin sized to that receiver, its grip where the "
-            f"receiver's hand was. {CAVEAT}")
+            "receiver's hand was; both sides read through the same ZED BODY_34 keypoints, "
+            "trunk, neck and knee from each side's standing neutral. Held out, the twin alone "
+            f"predicts worse than the receivers' mean angle (results/people/skill.csv). {CAVEAT}")
     save(fig, "people_angles.png")
 
 
