@@ -87,7 +87,7 @@ QUESTIONS = (
         "runs.csv": (), "summary.csv": (), "curves.csv": (), "workers.csv": (),
         "measured_runs.csv": (), "measured_summary.csv": ()}, 1100, True,
         "fig_personalise"),
-    Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 5, False,
+    Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 15, False,
              "fig_capture"),
     Question("people", ("landscape",), {
         "handovers.csv": (), "skill.csv": (), "fit.csv": (), "locations.csv": (),
