@@ -4,7 +4,6 @@ as captured 3D keypoints, or as a rater's worksheet items."""
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import textwrap
 
@@ -93,17 +92,13 @@ def assumption(text: str) -> tuple[str, float]:
 
 def length_unit(text: str) -> str:
     """``m``, ``cm``, ``mm`` or a positive number: the metres one unit of the file is."""
-    from ..capture.readers import UNITS
+    from ..capture.readers import KeypointFileError, unit_scale
 
-    if text in UNITS:
-        return text
     try:
-        metres = float(text)
-    except ValueError:
-        metres = math.nan
-    if not (math.isfinite(metres) and metres > 0):
+        unit_scale(text, text)
+    except KeypointFileError:
         raise BadValue(text, "not a unit (expected m, cm, mm, or the metres one unit of the "
-                       "file is, a number above 0)")
+                       "file is, a number above 0)") from None
     return text
 
 

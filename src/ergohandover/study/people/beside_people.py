@@ -129,14 +129,13 @@ def predict(used: pd.DataFrame, bodies: list[BodySpec], task: TaskSpec,
         upright.append(place(solver.model.forward(np.zeros((1, solver.model.nq))), body,
                              TRACKER, up="z")[0])
         hand_error.append(float(solution.hand_error[0]))
-    hands = used["receiving_hand"].to_numpy()
+    left = used["receiving_hand"].to_numpy() == "left"
     own = {name: np.concatenate([p[name] for p in postures]) for name in postures[0]}
     scores = score_postures(Posture(own), names=SCORES)  # every handover at once
-    return pd.concat([tracked_angles(np.stack(placed), np.stack(upright), hands),
+    return pd.concat([tracked_angles(np.stack(placed), np.stack(upright), left),
                       pd.DataFrame({"hand_error_m": hand_error,
-                                    **{f"own_{angle}": np.where(
-                                        hands == "left", own[side_column(angle, "left")],
-                                        own[side_column(angle, "right")]) for angle in ANGLES},
+                                    **{f"own_{angle}": on_receiving_side(own, left, angle)
+                                       for angle in ANGLES},
                                     **{score: scores[score].astype(int) for score in SCORES}})],
                      axis=1)
 
@@ -146,21 +145,21 @@ def side_column(angle: str, hand: str) -> str:
     return f"{hand}_{angle}" if angle in SIDED else angle
 
 
-def tracked_angles(points: np.ndarray, neutral: np.ndarray, hands) -> pd.DataFrame:
-    """:data:`ANGLES` (the receiving side's) of (N, 34, 3) ZED BODY_34 points (z up), as the
-    capture layer measures them, :data:`CALIBRATED` less their value in the (N, 34, 3)
-    ``neutral`` points [deg]."""
+def on_receiving_side(columns, left: np.ndarray, angle: str, prefix: str = "") -> np.ndarray:
+    """(N,) column ``prefix`` + one of :data:`ANGLES` on each handover's receiving side, from
+    ``columns`` (a table or a dict of arrays; ``left``: (N,) bool, the left hand received)."""
+    return np.where(left, columns[prefix + side_column(angle, "left")],
+                    columns[prefix + side_column(angle, "right")]).astype(float)
+
+
+def tracked_angles(points: np.ndarray, neutral: np.ndarray, left: np.ndarray) -> pd.DataFrame:
+    """:data:`ANGLES` (the receiving side's; ``left``: (N,) bool, the left hand received) of
+    (N, 34, 3) ZED BODY_34 points (z up), as the capture layer measures them,
+    :data:`CALIBRATED` less their value in the (N, 34, 3) ``neutral`` points [deg]."""
     at, zero = capture(points, TRACKER, "z").columns, capture(neutral, TRACKER, "z").columns
-    hands = np.asarray(hands)
-    out = {}
-    for angle in ANGLES:
-        value = np.where(hands == "left", at[side_column(angle, "left")],
-                         at[side_column(angle, "right")])
-        if angle in CALIBRATED:
-            value = value - np.where(hands == "left", zero[side_column(angle, "left")],
-                                     zero[side_column(angle, "right")])
-        out[angle] = value
-    return pd.DataFrame(out)
+    return pd.DataFrame({angle: on_receiving_side(at, left, angle) - (
+        on_receiving_side(zero, left, angle) if angle in CALIBRATED else 0.0)
+        for angle in ANGLES})
 
 
 def measured_angles(used: pd.DataFrame, calibrated: bool = True) -> pd.DataFrame:
@@ -174,9 +173,7 @@ def measured_angles(used: pd.DataFrame, calibrated: bool = True) -> pd.DataFrame
 
 def receiving_side(used: pd.DataFrame, angle: str, prefix: str = "") -> np.ndarray:
     """(N,) column ``prefix + angle`` of each handover's receiving side."""
-    left = used["receiving_hand"].to_numpy() == "left"
-    return np.where(left, used[prefix + side_column(angle, "left")],
-                    used[prefix + side_column(angle, "right")]).astype(float)
+    return on_receiving_side(used, used["receiving_hand"].to_numpy() == "left", angle, prefix)
 
 
 def fit_loss(measured: pd.DataFrame, predicted: pd.DataFrame) -> float:

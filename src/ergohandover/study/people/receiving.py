@@ -18,12 +18,7 @@ import pandas as pd
 
 from ...landscape.stats import optimum
 from .beside_people import SCORES
-from .skill import GROUPS
-
-
-def _bootstrap_weights(n: int, rng: np.random.Generator, resamples: int) -> np.ndarray:
-    """(resamples, n) multinomial counts: each row one resample of the n handovers."""
-    return rng.multinomial(n, np.full(n, 1.0 / n), size=resamples).astype(float)
+from .skill import GROUPS, bootstrap_weights
 
 
 def where_table(landscape, people: np.ndarray, groups: np.ndarray, rng: np.random.Generator,
@@ -38,7 +33,7 @@ def where_table(landscape, people: np.ndarray, groups: np.ndarray, rng: np.rando
             at = people[groups == group]
             twin = np.linalg.norm(at - best, axis=1)
             base = np.linalg.norm(at - mean_point, axis=1)
-            weights = _bootstrap_weights(len(at), rng, resamples)
+            weights = bootstrap_weights(len(at), rng, resamples)
             boot = 1.0 - (weights @ twin ** 2) / (weights @ base ** 2)
             rows.append({
                 "score": score, "group": group, "n": len(at),

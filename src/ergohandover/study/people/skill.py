@@ -37,6 +37,11 @@ ALL = "all six"
 """The row pooling every angle of every handover."""
 
 
+def bootstrap_weights(n: int, rng: np.random.Generator, resamples: int) -> np.ndarray:
+    """(resamples, n) multinomial counts: each row one resample of the n handovers."""
+    return rng.multinomial(n, np.full(n, 1.0 / n), size=resamples).astype(float)
+
+
 def inputs(places: pd.DataFrame, statures: np.ndarray) -> np.ndarray:
     """(N, 4) the :data:`INPUTS` of each handover."""
     return np.column_stack([places[c].to_numpy(float) for c in INPUTS[:-1]] + [statures])
@@ -89,8 +94,7 @@ def skill_table(measured: pd.DataFrame, predicted: dict[str, np.ndarray], groups
     rows = []
     for group in GROUPS:
         where = np.flatnonzero(groups == group)
-        weights = rng.multinomial(len(where), np.full(len(where), 1.0 / len(where)),
-                                  size=resamples).astype(float)  # (resamples, n)
+        weights = bootstrap_weights(len(where), rng, resamples)
         base = (predicted["constant"] - y)[where]
         for name in PREDICTORS:
             error = (predicted[name] - y)[where]
