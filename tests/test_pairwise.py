@@ -86,7 +86,7 @@ def test_proposals_are_new_cells_seeded_and_replayed():
     searcher = replay(make("pairwise+prior", GRID, 3, PRIOR),
                       list(zip(record.cells[:10], record.scores[:10], strict=True)))
     assert searcher.ask() == record.cells[10]
-    assert searcher.recommend() == record.cells[preferred(GRID, record.cells[:10],
+    assert searcher.recommend().cell == record.cells[preferred(GRID, record.cells[:10],
                                                           record.scores[:10])]
 
 

@@ -22,7 +22,7 @@ from ..envs.scores import Answer
 from ..errors import ConfigError
 from ..landscape.grid import Grid
 from .prior import Prior
-from .protocol import AskTellSearcher, told
+from .protocol import AskTellSearcher, Recommendation, told
 
 
 def prior_point(grid: Grid, prior: Prior) -> tuple[np.ndarray, np.ndarray]:
@@ -77,6 +77,13 @@ class NewCellSearcher(AskTellSearcher):
         self.told[cell], self.heard[cell] = answer.score, answer
         self._pending = None
         self._learn(cell, answer.score)
+
+    def recommend(self) -> Recommendation:
+        """Where it would hand over after what it was told. Without a model of the worker: the
+        location of the lowest answer heard (the first of equals), which under measurement
+        error favours a lucky reading; a searcher with a model overrides this."""
+        finite = {c: s for c, s in self.told.items() if math.isfinite(s)}
+        return Recommendation(min(finite, key=finite.get) if finite else None)
 
     @abstractmethod
     def _propose(self) -> int:

@@ -1,23 +1,29 @@
-"""A twin fitted to the worker from what is observed, and its optimum proposed.
+"""A twin fitted to the worker from every measured angle, and the location its model expects to
+be the worker's optimum.
 
 The population prior predicts a worker's optimum from stature and sex alone. Two workers of one
-stature still differ in their proportions, and a handover shows how this worker's body takes
-the box: the posture at the first handovers. :class:`FittedTwinSearcher` proposes the prior's
-cell and :data:`FIT` − 1 draws from the prior (as the prior alone does), then picks, among
-candidate bodies of the survey's body model (:class:`TwinLibrary`), the one whose twin explains
-those handovers best, and proposes that twin's cells from its lowest score up (equal scores:
-nearest the prior first), never a cell twice.
+stature still differ in their proportions, and each handover shows how this worker's body takes
+the box. :class:`FittedTwinSearcher` keeps a posterior over **hypotheses** of who the worker is:
+a candidate body (:class:`TwinLibrary`, bodies of the survey's model, each with its twin's
+landscape) displaced by a few centimetres up and forward (:data:`SHIFT_RANGE_M`), because a
+worker slightly taller or shorter than the nearest candidate takes the box alike a little higher
+or lower. A hypothesis says, for every cell, what the worker's angles and score are there (the
+candidate's at the displaced cell) and where the worker's optimum lies (the candidate's, moved).
 
-"Explains best": the smallest mean squared difference between the angles measured at the
-handovers and the candidate twin's angles at the same locations (every angle column of the
-Posture table that was measured; a candidate that could not take the box where the worker did
-scores :data:`MISSING_DEG`² for that handover), when the answers carry the measured posture
-(the ``posture`` the searcher is told with each answer: a posture measured with error, a
-posture row, a captured frame); otherwise — a rater's score — the smallest mean squared
-difference between the answered scores and the candidate's.
-
-The candidates are bodies, not settings: a worker whose twin differs in gaze or effort is fitted
-by the body that mimics it best.
+- **Prior** over hypotheses: candidates of the worker's sex, weighted by how close their stature
+  is (:data:`STATURE_BANDWIDTH_M`); displacements centred where the population prior's slope
+  moves an optimum for the stature difference (:attr:`~.prior.Prior.per_metre`), spread
+  :data:`SHIFT_SD_M`.
+- **Likelihood** of each handover: every angle the answer measured (NaN: unseen, left out)
+  against the hypothesis's angles there, Gaussian with the instrument's SD and the bodies'
+  own spread (:data:`BODY_SD_DEG`) added in quadrature; an answer of a score alone, Gaussian
+  on the score (:data:`SCORE_SD`); a hypothesis wrong about whether the worker could take the
+  box there is charged :data:`FEASIBILITY_MISS`.
+- **Recommendation** (:meth:`FittedTwinSearcher.recommend`): the cell with the highest posterior
+  probability of being the worker's optimum, and that probability; a single low reading moves
+  it only as far as it moves the posterior.
+- **Proposal**: that cell while it is untried, else the untried cell of highest probability
+  (equal: nearest the prior).
 """
 
 from __future__ import annotations
@@ -28,22 +34,49 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ..envs.scores import objective_values
+from ..envs.scores import Answer, objective_values
 from ..errors import ConfigError
+from ..landscape.cache import Landscape
 from ..landscape.grid import Grid
-from ..robustness.posture_error import ANGLE_COLUMNS
-from ..twin.evaluate import Evaluator, evaluate_arrays
+from ..landscape.sweep import ANGLES as LANDSCAPE_ANGLES
+from ..twin.evaluate import Evaluator
+from .cells import NewCellSearcher, prior_point
 from .prior import Prior
-from .prior_search import PriorSearcher
+from .protocol import Recommendation
 
-FIT = 3
-"""Handovers drawn from the prior before the twin is fitted to them."""
-MISSING_DEG = 90.0
-"""The angle difference a candidate is charged, per angle, for a handover it could not take."""
+STATURE_BANDWIDTH_M = 0.03
+"""How fast a candidate's prior weight falls with its stature's distance from the worker's
+(the SD of a Gaussian kernel) [m]."""
+SHIFT_AXES = (1, 2)
+"""The grid's axes a hypothesis displaces the candidate along: up (y) and forward (z) of the
+worker frame, where an optimum moves with stature; sideways it stays on the midline."""
+SHIFT_RANGE_M, SHIFT_SD_M = 0.02, 0.01
+"""The largest displacement per axis [m] and the spread of its prior about the stature slope's
+[m]."""
+BODY_SD_DEG = 3.0
+"""How far a worker's angle may lie from the best hypothesis's even without measurement error
+[deg] (bodies differ by more than stature and a displacement): added in quadrature to the
+instrument's SD."""
+SCORE_SD = 1.0
+"""The spread of a score answered alone about the hypothesis's score [points]: a banded score
+that flips by one point."""
+FEASIBILITY_MISS = math.log(1e-3)
+"""The log-probability a hypothesis is charged for a handover whose feasibility it got wrong
+(the worker took the box where the candidate could not, or the reverse): the reach boundary
+differs between bodies by about a cell, so it excludes a hypothesis without ending it."""
+PRUNE = 1e-9
+"""Hypotheses lighter than this share of the heaviest are left out of the optimum's
+probability."""
 SURVEY_DRAWS, CANDIDATES = 400, 12
 """Bodies drawn from the survey's model for a worker's sex, and how many of them (the nearest
-in stature) are a session's candidates (:func:`survey_library`): each candidate's solver first
-solves its warm-start lattice (a second or two), which the person waits for at the fit."""
+in stature) are a session's candidates (:func:`survey_library`)."""
+
+
+FIELD_ANGLES = tuple(a for a in LANDSCAPE_ANGLES if a != "hand_error_m")
+"""The angles a candidate's landscape holds at every cell, and so the angles a hypothesis is
+compared on: the trunk's flexion, side bend and twist, the neck's flexion, the knee's, and
+both upper arms' flexion and elbows. The others a measured answer carries would need each
+candidate's posture solved at every handover."""
 
 
 class TwinLibrary:
@@ -52,75 +85,188 @@ class TwinLibrary:
     Args:
         grid: the cells.
         evaluators: the candidates (bodies of the survey's model, the task and settings).
-        values: ``values(i)``: candidate ``i``'s objective at every cell (``inf``: infeasible),
-            computed or read when first needed (a landscape).
+        landscape: ``landscape(i)``: candidate ``i``'s landscape on ``grid`` (read from the
+            cache or swept when first needed).
+        objective: the score the worker's optimum is the lowest of.
         names: the candidates' names (for the record, and the cache's keys).
-        cache: where their solved angles are kept (shared by the libraries of one grid).
+        cache: where their scores and angles are kept by name (shared by the libraries of
+            one grid).
+        worker: the worker's stature [m] and sex (a site knows them), or None: the first
+            candidate's.
+        angle_sd_deg: the SD of the instrument that measures the answers' angles [deg].
     """
 
     def __init__(self, grid: Grid, evaluators: Sequence[Evaluator],
-                 values: Callable[[int], np.ndarray], names: Sequence[str] | None = None,
-                 cache: dict | None = None):
+                 landscape: Callable[[int], Landscape], objective: str,
+                 names: Sequence[str] | None = None, cache: dict | None = None,
+                 worker: tuple[float, str] | None = None, angle_sd_deg: float = 5.0):
         if not evaluators:
             raise ConfigError("a twin library needs at least one candidate")
-        self.grid, self.evaluators, self._values = grid, list(evaluators), values
+        if not (math.isfinite(angle_sd_deg) and angle_sd_deg >= 0):
+            raise ConfigError(f"angle_sd_deg = {angle_sd_deg!r} is outside the valid range "
+                              "(>= 0)")
+        self.grid, self.evaluators, self._landscape = grid, list(evaluators), landscape
+        self.objective = objective
         self.names = list(names) if names is not None else [str(i) for i in
                                                             range(len(evaluators))]
-        # (candidate's name, cell) -> its angles there: shared by libraries of one grid
-        self._postures: dict[tuple[str, int], np.ndarray] = {} if cache is None else cache
+        self._kept: dict[tuple[str, str], np.ndarray] = {} if cache is None else cache
+        first = self.evaluators[0].body
+        self.worker = worker or (first.stature_m, first.sex)
+        self.angle_sd_deg = float(angle_sd_deg)
 
     def __len__(self) -> int:
         return len(self.evaluators)
 
+    def _read(self, i: int) -> None:
+        found = self._landscape(i)
+        values = objective_values(found, self.objective)
+        name = self.names[i]
+        self._kept[(name, self.objective)] = values
+        self._kept[(name, "optimum")] = np.flatnonzero(values == values.min())
+        field = np.column_stack([found.arrays[a] for a in FIELD_ANGLES]).astype(np.float32)
+        field[~found.feasible] = np.nan
+        self._kept[(name, "angles")] = field
+
+    def _get(self, i: int, what: str) -> np.ndarray:
+        key = (self.names[i], what)
+        if key not in self._kept:
+            self._read(i)
+        return self._kept[key]
+
+    def prepare(self) -> None:
+        """Read every candidate now (a process that forks workers afterwards shares them)."""
+        for i in range(len(self)):
+            self._get(i, "angles")
+
     def values(self, i: int) -> np.ndarray:
-        return self._values(i)
+        """Candidate ``i``'s objective at every cell (``inf``: infeasible)."""
+        return self._get(i, self.objective)
 
-    def angles(self, cells: Sequence[int]) -> np.ndarray:
-        """(candidates, cells, angles) every candidate's angles at ``cells`` (NaN where it
-        cannot take the box), solved when first asked for and kept."""
-        cells = [int(c) for c in cells]
-        for name, evaluator in zip(self.names, self.evaluators, strict=True):
-            todo = [c for c in cells if (name, c) not in self._postures]
-            if not todo:
-                continue
-            found = evaluate_arrays(self.grid.coordinates(todo), evaluator,
-                                    columns=("feasible", *ANGLE_COLUMNS))
-            for k, c in enumerate(todo):
-                row = np.array([found[a][k] for a in ANGLE_COLUMNS], dtype=float)
-                self._postures[(name, c)] = row if found["feasible"][k] else np.full(
-                    len(ANGLE_COLUMNS), np.nan)
-        return np.array([[self._postures[(name, c)] for c in cells] for name in self.names])
+    def optimum(self, i: int) -> np.ndarray:
+        """Candidate ``i``'s optimum: the flat cells at its lowest score."""
+        return self._get(i, "optimum")
+
+    def angles(self, cells: Sequence[int], which: Sequence[int] | None = None) -> np.ndarray:
+        """(candidates, cells, :data:`FIELD_ANGLES`) the angles of every candidate (or those
+        ``which`` names) at ``cells`` (NaN where it cannot take the box)."""
+        chosen = range(len(self)) if which is None else which
+        cells = np.asarray(cells, dtype=np.intp)
+        return np.stack([self._get(int(i), "angles")[cells] for i in chosen]) if len(
+            chosen) else np.zeros((0, len(cells), len(FIELD_ANGLES)))
 
 
-def fit(library: TwinLibrary, cells: Sequence[int], scores: Sequence[float],
-        postures: Sequence[dict[str, float] | None]) -> tuple[int, np.ndarray]:
-    """The candidate that explains the feasible handovers best (see the module; the first of
-    equals) and every candidate's misfit. ``postures`` are used when every feasible handover
-    has one, else ``scores``."""
-    keep = [k for k, s in enumerate(scores) if math.isfinite(s)]
-    if not keep:
-        raise ConfigError("a twin is fitted to feasible handovers, and there is none")
-    cells = [int(cells[k]) for k in keep]
-    if all(postures[k] is not None for k in keep):
-        measured = np.array([[postures[k][a] for a in ANGLE_COLUMNS] for k in keep])
-        predicted = library.angles(cells)  # (candidates, handovers, angles)
-        squared = np.where(np.isnan(predicted), MISSING_DEG ** 2,
-                           (predicted - measured[None]) ** 2)
-        seen = np.isfinite(measured)  # an angle the capture did not see is left out
-        misfit = np.where(seen[None], squared, 0.0).sum(axis=(1, 2)) / max(seen.sum(), 1)
-    else:
-        observed = np.array([scores[k] for k in keep])
-        predicted = np.array([library.values(i)[cells] for i in range(len(library))])
-        misfit = np.where(np.isfinite(predicted), (predicted - observed) ** 2,
-                          MISSING_DEG ** 2).mean(axis=1)
-    return int(np.argmin(misfit)), misfit
-
-
-class FittedTwinSearcher(PriorSearcher):
-    """The prior's first :data:`FIT` proposals, then the fitted twin's cells; see the module.
+class BodyPosterior:
+    """The posterior over hypotheses (candidate x displacement) of one worker; see the module.
 
     Args:
-        grid, seed, prior: as every searcher's (the prior is needed).
+        library: the candidates.
+        prior: the worker's population prior (its ``per_metre`` slope centres the
+            displacements; without one they are centred on none).
+    """
+
+    def __init__(self, library: TwinLibrary, prior: Prior | None):
+        self.library, grid = library, library.grid
+        self.shape = np.asarray(grid.shape)
+        reach = [math.floor(SHIFT_RANGE_M / grid.step + 1e-9) if a in SHIFT_AXES else 0
+                 for a in range(3)]
+        steps = np.stack(np.meshgrid(*(np.arange(-r, r + 1) for r in reach), indexing="ij"),
+                         axis=-1).reshape(-1, 3)
+        self.shifts = steps  # (D, 3) cells: the worker's field at c is the candidate's at c - d
+        stature, sex = library.worker
+        bodies = [e.body for e in library.evaluators]
+        same = np.array([b.sex == sex for b in bodies])
+        if not same.any():
+            same[:] = True  # no candidate of the worker's sex: every candidate, by stature
+        difference = stature - np.array([b.stature_m for b in bodies])  # (K,) [m]
+        slope = np.zeros(3) if prior is None or prior.per_metre is None else \
+            np.asarray(prior.per_metre, float)
+        expected = difference[:, None] * slope[None, :]  # (K, 3) [m]
+        offset = steps[None, :, :] * grid.step - expected[:, None, :]  # (K, D, 3) [m]
+        axes = list(SHIFT_AXES)
+        self.log_weight = (-0.5 * (difference / STATURE_BANDWIDTH_M) ** 2)[:, None] \
+            - 0.5 * ((offset[:, :, axes] / SHIFT_SD_M) ** 2).sum(axis=2)
+        self.log_weight[~same] = -np.inf
+        self._p_optimal: np.ndarray | None = None
+        self.angle_sd2 = library.angle_sd_deg ** 2 + BODY_SD_DEG ** 2
+
+    @property
+    def weights(self) -> np.ndarray:
+        """(K, D) the hypotheses' posterior probabilities."""
+        w = np.exp(self.log_weight - self.log_weight.max())
+        return w / w.sum()
+
+    def candidate_weights(self) -> np.ndarray:
+        """(K,) each candidate's posterior probability, its displacements summed."""
+        return self.weights.sum(axis=1)
+
+    def sources(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
+        """The candidate's cell under each displacement for the worker's ``cell``: (D,) flat
+        cells (clamped) and (D,) whether it lies on the grid."""
+        index = np.array(np.unravel_index(int(cell), tuple(self.shape)))[None, :] - self.shifts
+        inside = ((index >= 0) & (index < self.shape)).all(axis=1)
+        clamped = np.clip(index, 0, self.shape - 1)
+        return np.ravel_multi_index(tuple(clamped.T), tuple(self.shape)), inside
+
+    def update(self, cell: int, answer: Answer) -> None:
+        """Weigh every hypothesis by how well it explains the answer at ``cell``."""
+        sources, inside = self.sources(cell)
+        # Hypotheses already negligible are dropped for good (their candidates' angles are
+        # never solved again).
+        live = self.log_weight > self.log_weight.max() + math.log(PRUNE)
+        alive = np.flatnonzero(live.any(axis=1))
+        feasible_worker = math.isfinite(answer.score)
+        posture = answer.posture if feasible_worker else None
+        step = np.zeros_like(self.log_weight)
+        if posture is not None and any(math.isfinite(posture.get(a, math.nan))
+                                       for a in FIELD_ANGLES):
+            measured = np.array([posture.get(a, math.nan) for a in FIELD_ANGLES], float)
+            seen = np.isfinite(measured)
+            predicted = self.library.angles(sources, alive)  # (alive, D, angles)
+            feasible = ~np.isnan(predicted).all(axis=2) & inside[None, :]
+            residual = np.where(seen, predicted - np.where(seen, measured, 0.0), 0.0)
+            fit = -0.5 * (np.nan_to_num(residual, nan=0.0) ** 2).sum(axis=2) / self.angle_sd2
+            step[alive] = np.where(feasible, fit, FEASIBILITY_MISS)
+        else:
+            values = np.array([self.library.values(int(k))[sources] for k in alive])
+            feasible = np.isfinite(values) & inside[None, :]
+            if feasible_worker:
+                fit = -0.5 * ((np.where(feasible, values, 0.0) - answer.score) / SCORE_SD) ** 2
+                step[alive] = np.where(feasible, fit, FEASIBILITY_MISS)
+            else:
+                step[alive] = np.where(feasible, FEASIBILITY_MISS, 0.0)
+        self.log_weight = np.where(live, self.log_weight + step, -np.inf)
+        self._p_optimal = None
+
+    def p_optimal(self) -> np.ndarray:
+        """(grid.size,) each cell's posterior probability of being the worker's optimum."""
+        if self._p_optimal is None:
+            weights = self.weights
+            self._p_optimal = self._plateau_probability(weights)
+        return self._p_optimal
+
+    def _plateau_probability(self, weights: np.ndarray) -> np.ndarray:
+        """The summed weight of the hypotheses whose optimum includes each cell (a worker's
+        optimum is a plateau of cells: every one of them is the optimum)."""
+        total = np.zeros(int(self.shape.prod()))
+        for k in np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max()):
+            cells = self.library.optimum(int(k))
+            index = np.array(np.unravel_index(cells, tuple(self.shape))).T  # (n, 3)
+            moved = index[None, :, :] + self.shifts[:, None, :]  # (D, n, 3)
+            inside = ((moved >= 0) & (moved < self.shape)).all(axis=2)
+            flat = np.ravel_multi_index(tuple(np.clip(moved, 0, self.shape - 1).T),
+                                        tuple(self.shape)).T  # (D, n)
+            share = np.broadcast_to(weights[k][:, None], flat.shape)
+            total += np.bincount(flat[inside], share[inside], minlength=total.size)
+        return np.minimum(total, 1.0)
+
+
+class FittedTwinSearcher(NewCellSearcher):
+    """Proposes and recommends where the posterior over the worker's hypotheses puts the
+    optimum; see the module.
+
+    Args:
+        grid, seed, prior: as every searcher's (the prior is needed: its location breaks ties
+            and its slope centres the displacements).
         twins: the candidate twins.
     """
 
@@ -128,35 +274,46 @@ class FittedTwinSearcher(PriorSearcher):
 
     def __init__(self, grid: Grid, seed: int, prior: Prior | None = None,
                  twins: TwinLibrary | None = None):
-        super().__init__(grid, seed, prior)
+        if prior is None:
+            raise ConfigError("searcher fitted-twin needs a worker's prior (a population "
+                              "prior's location and SD)")
         if twins is None:
             raise ConfigError("searcher fitted-twin needs candidate twins (a TwinLibrary)")
+        super().__init__(grid, seed, prior)
         self.twins = twins
-        self.chosen: int | None = None
-        self._order: list[int] = []
+        self.posterior = BodyPosterior(twins, prior)
+        centre, _ = prior_point(grid, prior)
+        index = np.indices(grid.shape).reshape(3, -1).T
+        self._distance = np.linalg.norm(index - centre, axis=1)  # ties: nearest the prior
+
+    @property
+    def chosen(self) -> int:
+        """The candidate of highest posterior probability (its displacements summed)."""
+        return int(np.argmax(self.posterior.candidate_weights()))
 
     def search(self, evaluations) -> dict:
         super().search(evaluations)
-        return {"fitted_twin": None if self.chosen is None else self.twins.names[self.chosen]}
+        return {"fitted_twin": self.twins.names[self.chosen]}
+
+    def _ranked(self, cells: np.ndarray | None = None) -> np.ndarray:
+        """Cells by the optimum's probability, highest first (equal: nearest the prior)."""
+        p = self.posterior.p_optimal()
+        if cells is None:
+            return np.lexsort((self._distance, -p))
+        return cells[np.lexsort((self._distance[cells], -p[cells]))]
+
+    def recommend(self) -> Recommendation:
+        cell = int(self._ranked()[0])
+        return Recommendation(cell, float(self.posterior.p_optimal()[cell]))
 
     def _propose(self) -> int:
-        if self.chosen is None and len(self.cells) >= FIT and any(
-                math.isfinite(s) for s in self.told_answers):
-            self.chosen, _ = fit(self.twins, self.cells, self.told_answers, self.postures)
-            self._order = self._ranked(self.twins.values(self.chosen))
-        if self.chosen is None:
-            return super()._propose()
-        while self._order and self._order[-1] in self.told:
-            self._order.pop()
-        return self._order[-1] if self._order else self.nearest_new(self._centre)
+        for cell in self._ranked():
+            if int(cell) not in self.told:
+                return int(cell)
+        raise ConfigError("searcher fitted-twin: every cell has been evaluated")
 
-    def _ranked(self, values: np.ndarray) -> list[int]:
-        """The cells from the lowest score up (equal scores: nearest the prior first), as a
-        stack (the next at the end)."""
-        index = np.indices(self.grid.shape).reshape(3, -1).T
-        distance = np.linalg.norm(index - self._centre, axis=1)
-        order = np.lexsort((distance, np.where(np.isfinite(values), values, np.inf)))
-        return order[::-1].tolist()
+    def _learn(self, cell: int, score: float) -> None:
+        self.posterior.update(cell, self.heard[cell])
 
     @property
     def postures(self) -> list[dict[str, float] | None]:
@@ -165,11 +322,11 @@ class FittedTwinSearcher(PriorSearcher):
 
 
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
-                   progress: bool = True) -> TwinLibrary:
+                   progress: bool = True, angle_sd_deg: float = 5.0) -> TwinLibrary:
     """A worker's candidate twins for ``ergohandover personalise``: the twin the session was
     given, and the :data:`CANDIDATES` bodies nearest its stature among :data:`SURVEY_DRAWS`
     drawn from the survey's body model for its sex (seeded), with its task and settings. A
-    candidate's landscape is swept (or read from the cache) only when the fit chooses it."""
+    candidate's landscape is swept (or read from the cache) when first needed."""
     from ..landscape.store import landscape_of
     from ..twin.anthropometry import BodySpec
 
@@ -179,8 +336,7 @@ def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
     evaluators = [evaluator, *(dataclasses.replace(evaluator, body=b) for b in near)]
     names = ["the given worker", *(f"survey body {i + 1} ({b.stature_m:.3f} m)"
                                    for i, b in enumerate(near))]
-
-    def values(i: int) -> np.ndarray:
-        return objective_values(landscape_of(evaluators[i], grid, progress=progress), objective)
-
-    return TwinLibrary(grid, evaluators, values, names)
+    return TwinLibrary(grid, evaluators, lambda i: landscape_of(evaluators[i], grid,
+                                                              progress=progress),
+                       objective, names, worker=(body.stature_m, body.sex),
+                       angle_sd_deg=angle_sd_deg)

@@ -36,6 +36,7 @@ from ..landscape.grid import Grid
 from .cells import NewCellSearcher, prior_point
 from .preferences import BETTER, SAME, WORSE, PreferenceScores, comparisons
 from .prior import Prior
+from .protocol import Recommendation
 
 __all__ = ["BETTER", "SAME", "WORSE", "PairwiseSearcher", "PreferenceModel", "PreferenceScores",
            "comparisons", "model_of", "most_preferred", "preferred"]
@@ -133,10 +134,11 @@ class PairwiseSearcher(NewCellSearcher):
             self._centre, self._sd = prior_point(grid, prior)
             self._sd = np.maximum(self._sd, 1.0)
 
-    def recommend(self) -> int | None:
-        """The cell it would recommend now (:func:`preferred`)."""
+    def recommend(self) -> Recommendation:
+        """The location its model prefers among those tried (:func:`preferred`); its
+        probability of being the best of them is :meth:`confidence`'s."""
         best = preferred(self.grid, self.cells, self.told_answers)
-        return None if best is None else self.cells[best]
+        return Recommendation(None if best is None else self.cells[best])
 
     def confidence(self, draws: int = 4000) -> float | None:
         """The model's probability that :meth:`recommend`'s location is the best of the

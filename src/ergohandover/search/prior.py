@@ -38,10 +38,14 @@ class Prior:
     Attributes:
         location: (3,) the expected optimum (x, y, z), worker frame [m].
         sd: (3,) the spread of workers' optima about that expectation, per axis [m].
+        per_metre: (3,) how far the expected optimum moves per metre of stature, per axis
+            [m/m] (None: not known), for a searcher that compares the worker with bodies of
+            other statures.
     """
 
     location: tuple[float, float, float]
     sd: tuple[float, float, float]
+    per_metre: tuple[float, float, float] | None = None
 
     def __post_init__(self):
         if not all(math.isfinite(v) for v in self.location):
@@ -108,7 +112,8 @@ class PopulationPrior:
             raise ConfigError(f"stature = {stature_m!r} m is outside the valid range 1.0-2.5 m")
         row = design(stature_m, sex == "male")[0]
         location = np.asarray(self.coefficients) @ row
-        return Prior(tuple(float(v) for v in location), self.residual_sd)
+        slope = tuple(float(axis[FEATURES.index("stature_m") + 1]) for axis in self.coefficients)
+        return Prior(tuple(float(v) for v in location), self.residual_sd, slope)
 
     def to_dict(self) -> dict:
         return {"objective": self.objective, "features": ["intercept", *FEATURES],

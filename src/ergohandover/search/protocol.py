@@ -26,6 +26,7 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
 from contextlib import suppress
+from typing import NamedTuple
 
 from ..envs.scores import Answer, ScoreSource
 from ..errors import ConfigError
@@ -38,6 +39,15 @@ ASKS_PER_EVALUATION = 50
 """Scores a search may read per evaluation of its budget, repeats included: far above what any
 searcher needs (an ask/tell searcher proposes new cells; a walk's step reaches a new cell about
 half the time or more), so it ends only a search that keeps to known cells."""
+
+
+class Recommendation(NamedTuple):
+    """Where a searcher would hand over now: ``cell`` (None: nothing feasible seen yet) and
+    its model's probability that the cell is the worker's optimum (NaN: a searcher without a
+    model of the worker)."""
+
+    cell: int | None
+    p_optimal: float = math.nan
 
 
 class Spent(Exception):
@@ -67,11 +77,13 @@ class Evaluations:
         known: (cell, answer or score) pairs evaluated before this run (a resumed session's):
             answered from memory, and counted against the budget.
         progress: called after every new evaluation.
+        recommend_at: after how many evaluations an ask/tell searcher's recommendation is
+            kept (in :attr:`recommendations`, and the record's ``info``).
     """
 
     def __init__(self, scores: ScoreSource, budget: Budget,
                  known: Iterable[tuple[int, Answer | float]] = (),
-                 progress: Progress | None = None):
+                 progress: Progress | None = None, recommend_at: Iterable[int] = ()):
         if budget.steps is not None:
             raise ConfigError("evaluations are counted in evaluations, not steps")
         self.source, self.grid, self.budget = scores, scores.grid, budget
@@ -79,6 +91,8 @@ class Evaluations:
         self.tracker = Tracker(scores.grid.point, budget.stop_score, budget.stop_cells)
         self.known: dict[int, Answer] = {}  # cell -> its answer, in the order evaluated
         self.asks, self.progress = 0, progress
+        self.recommend_at = frozenset(int(n) for n in recommend_at)
+        self.recommendations: dict[int, Recommendation] = {}  # handovers -> the searcher's
         for cell, answer in known:
             self._add(int(cell), told(answer))
         self.asks = len(self.known)
@@ -178,16 +192,24 @@ class AskTellSearcher(Searcher):
         ``math.inf`` where infeasible, and what came with it; a bare score is an answer of a
         score alone)."""
 
+    def recommend(self) -> Recommendation:
+        """Where it would hand over after what it was told, and its model's probability that
+        this is the worker's optimum."""
+        raise ConfigError(f"searcher {self.name!r} makes no recommendation")
+
     def search(self, evaluations: Evaluations) -> dict:
         while not evaluations.stopped_by:
             cell = int(self.ask())
             self.tell(cell, evaluations.answer(cell))
+            if evaluations.spent in evaluations.recommend_at:
+                evaluations.recommendations[evaluations.spent] = self.recommend()
         return {}
 
 
 def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
         progress: Progress | None = None,
-        known: Sequence[tuple[int, Answer | float]] = ()) -> Record:
+        known: Sequence[tuple[int, Answer | float]] = (),
+        recommend_at: Iterable[int] = ()) -> Record:
     """Run ``searcher`` against ``scores`` until ``budget`` is spent or its stop is reached.
 
     Args:
@@ -199,15 +221,19 @@ def run(searcher: Searcher, scores: ScoreSource, budget: Budget,
         progress: called as ``progress(spent, elapsed_s)`` while it runs.
         known: (cell, answer or score) of an earlier session, already told to ``searcher``
             (:func:`replay`): answered from memory and counted in the budget.
+        recommend_at: after how many evaluations an ask/tell searcher's recommendation
+            (:class:`Recommendation`) is kept, in the record's ``info["recommendations"]``.
     """
     if budget.steps is not None or (budget.evaluations is None and searcher.unit == "steps"):
         return searcher.drive(scores, budget, progress)
     if searcher.answers != getattr(scores, "answers", "scores"):
         scores = told_as(searcher, scores, budget)
-    evaluations = Evaluations(scores, budget, known, progress)
+    evaluations = Evaluations(scores, budget, known, progress, recommend_at)
     info = {}
     with suppress(Spent):
         info = searcher.search(evaluations)
+    if evaluations.recommend_at:
+        info = {**info, "recommendations": evaluations.recommendations}
     return evaluations.record(searcher.name, info)
 
 

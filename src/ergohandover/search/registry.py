@@ -52,6 +52,8 @@ class Entry:
         answers: what it is told: ``scores``, or ``preferences`` (which of the last two
             handovers was better: :mod:`.pairwise`).
         twins: it needs candidate twins of the worker (:mod:`.fitted_twin`).
+        model: it recommends from a model of the worker (``recommend()``: the fitted twin's
+            posterior, the preference GP), not from the lowest answer heard.
     """
 
     name: str
@@ -66,6 +68,7 @@ class Entry:
     variant_of: str | None = None
     answers: str = "scores"
     twins: bool = False
+    model: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS or self.prior not in PRIORS or self.answers not in ANSWERS:
@@ -116,9 +119,10 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
     *with_prior_variant(Entry("cmaes", "CMA-ES", "searcher", ".cmaes_search:CMAESSearcher")),
     *with_prior_variant(Entry("pso", "particle swarm", "searcher", ".pso:PSOSearcher")),
     *with_prior_variant(Entry("pairwise", "pairwise preferences (GP)", "searcher",
-                              ".pairwise:PairwiseSearcher", answers="preferences")),
+                              ".pairwise:PairwiseSearcher", answers="preferences",
+                              model=True)),
     Entry("fitted-twin", "fitted twin", "searcher", ".fitted_twin:FittedTwinSearcher",
-          prior="needs", twins=True),
+          prior="needs", twins=True, model=True),
 )}
 """Tabular Q-learning (the paper's; under the published code's fixed temperature and the text's
 adaptive one), DQN and SAC (stable-baselines3; SAC on the continuous-action env), a random walk

@@ -163,7 +163,7 @@ class Session:
         """The trial of the lowest feasible score (the earliest of equals), or None; of a
         searcher told preferences, the trial of the location it prefers."""
         if searcher is not None and searcher.answers == "preferences":
-            cell = searcher.recommend()
+            cell = searcher.recommend().cell
             return next((r for r in self.trials if r.cell == cell), None)
         feasible = [r for r in self.trials if math.isfinite(r.score)]
         return min(feasible, key=lambda r: r.score) if feasible else None

@@ -8,21 +8,26 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   (:class:`~.measured.MeasuredScores`; σ = 0 is the exact answer), or the score given
   by a *rater* whose intra-rater reliability is a published ICC
   (:class:`~.measured.RatedScores`);
-- **equal budgets and no stop rule**: nobody knows the worker's minimum; every searcher gets the
-  same handovers, and what it recommends after B of them is read from what was observed;
-- **recommendation rules** (:data:`RULES`): ``lowest``, the location of the lowest answer
-  among B handovers (the first of equals); ``confirm``, B − k handovers searched and the last
-  k (:func:`confirmations`) spent measuring the k best locations again, the lowest mean of two
-  answers recommended — a repeat at a location costs a handover, as it is a new measurement;
-  ``preferred``, for a searcher told only which of the last two handovers was better
-  (:mod:`~...search.pairwise`: the answers' scores compared), the location its own model
-  prefers;
-- **a twin fitted to the worker** (:mod:`~...search.fitted_twin`): after the prior's first
-  handovers, the population's other body whose twin explains them best, its optimum proposed;
+- **equal budgets**: nobody knows the worker's minimum; every searcher gets the same handovers,
+  and what it recommends after B of them is read;
+- **recommendation rules** (:data:`RULES`): a searcher with a model of the worker (the fitted
+  twin, the preference GP: ``model`` in the registry) recommends where that model expects the
+  worker's optimum (``model``: :meth:`recommend`, with the model's probability that it is the
+  optimum), and may stop early (``model, stopped``: at the first handover after which that
+  probability reaches the stopping level, ``stop_level``; the handovers used are reported). A
+  searcher without one recommends the location of the lowest answer among B handovers
+  (``lowest``, the first of equals: under measurement error it favours a lucky reading), or
+  (``confirm``) searches B − k handovers and spends the last k (:func:`confirmations`)
+  measuring the k best again, the lowest mean of two recommended — a repeat costs a handover;
+- **a twin fitted to the worker** (:mod:`~...search.fitted_twin`): a posterior over the
+  population's other bodies, displaced a little, weighed by every measured angle;
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
   fitted to twins like the one that answers), the same workers with a modelling choice of the
   sensitivity study changed (gaze, effort, joint preferences: *out-of-model*), whose optimum the
-  prior has never seen.
+  prior has never seen;
+- **the baseline**: handing over once at the prior's location and stopping (:func:`no_search`),
+  what a site has without searching; every searcher's gain over it and harm (runs worse than
+  it) are paired per worker.
 
 What counts is the recommendation's **true regret**: the worker's error-free score there minus
 their own optimum, and whether it is 0. The ``+prior`` searchers (and the prior alone) get the
@@ -33,6 +38,7 @@ answers' model), so runs are paired across searchers only in their seeds.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,19 +48,23 @@ from scipy import stats
 from ...envs.scores import ScoreSource
 from ...errors import ConfigError
 from ...landscape.grid import Grid
+from ...landscape.store import landscape_of
 from ...robustness.posture_error import ErrorModel
 from ...search import Budget, entry, make
 from ...search import run as run_search
 from ...search.fitted_twin import TwinLibrary
-from ...search.pairwise import preferred
 from ...search.prior import Prior
+from ...search.protocol import Recommendation
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
 
 KINDS = ("posture", "rater")
-RULES = ("lowest", "confirm", "preferred")
+RULES = ("model", "model, stopped", "lowest", "confirm")
 IN_MODEL = "in-model"
+BLOCK = 3
+"""A worker's postures are solved in aligned cubes of this edge [cells] on a miss: searchers
+propose near where they proposed before, and the solver's cost is mostly per call."""
 
 
 @dataclass(frozen=True)
@@ -89,7 +99,7 @@ class Answers:
         """The score source answering a run's handovers."""
         if self.kind == "posture":
             return MeasuredScores(grid, evaluator, objective, ErrorModel(self.level), rng,
-                                  postures=postures)
+                                  block=BLOCK, postures=postures)
         return RatedScores(grid, values, rater_sd(values, self.level), rng, objective)
 
 
@@ -114,6 +124,8 @@ class MeasuredJob:
         seeds: one seed per run.
         candidates: (name, evaluator) of the bodies a fitted twin chooses from (the
             population's other workers; only for a searcher that needs them).
+        stop_level: the stopping rule's level: a run stops at the first handover after which
+            its model's probability that the recommendation is the optimum reaches it.
     """
 
     worker: str
@@ -127,12 +139,14 @@ class MeasuredJob:
     seeds: tuple[int, ...]
     prior: Prior
     candidates: tuple[tuple[str, Evaluator], ...] = ()
+    stop_level: float = 0.8
 
 
 _POSTURES: dict[str, dict] = {}
 """Each worker's solved postures by cell, shared by every run on it in this process."""
-_ANGLES: dict[tuple[str, int], np.ndarray] = {}
-"""Candidate twins' solved angles by (candidate, cell), shared by every fitted twin here."""
+_CANDIDATES: dict[tuple[str, str], np.ndarray] = {}
+"""Candidate twins' scores and angles by (candidate, what), shared by every fitted twin here
+(filled by the parent before the pool forks: :func:`candidate_library`)."""
 
 
 def truth_key(worker: str, twin: str) -> str:
@@ -186,11 +200,20 @@ def confirmed(cells: list[int], scores: list[float], budget: int,
     return int(candidates[best]), float(means[best]), len(seen) + len(candidates)
 
 
+def candidate_library(candidates: Sequence[tuple[str, Evaluator]], grid: Grid, objective: str,
+                      **settings) -> TwinLibrary:
+    """The candidates' library, their landscapes read from the cache once per process."""
+    evaluators = [e for _, e in candidates]
+    return TwinLibrary(grid, evaluators,
+                       lambda i: landscape_of(evaluators[i], grid, progress=False), objective,
+                       [n for n, _ in candidates], cache=_CANDIDATES, **settings)
+
+
 def run_measured_job(job: MeasuredJob) -> list[dict]:
     """Every run of the job: one row per budget and rule (the recommendation, its answer and
     true score, its true regret)."""
     values = truth_of(job)
-    lowest = float(values.min())
+    lowest_score = float(values.min())
     postures = _POSTURES.setdefault(f"{truth_key(job.worker, job.twin)}|{job.grid.describe()}",
                                     {})
     prior = job.prior if entry(job.searcher).prior == "needs" else None
@@ -200,65 +223,112 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
 
     twins = None
     if entry(job.searcher).twins:
-        names = [n for n, _ in job.candidates]
-        evaluators = [e for _, e in job.candidates]
-        twins = TwinLibrary(job.grid, evaluators, lambda i: values_for(
-            names[i], evaluators[i], job.grid, job.objective), names, cache=_ANGLES)
+        body = job.evaluator.body
+        twins = candidate_library(job.candidates, job.grid, job.objective,
+                                  worker=(body.stature_m, body.sex),
+                                  angle_sd_deg=job.answers.level
+                                  if job.answers.kind == "posture" else 0.0)
     rows = []
+    largest = max(job.budgets)
     for run, seed in enumerate(job.seeds):
         record = run_search(make(job.searcher, job.grid, seed, prior, twins=twins),
                             source(measurement_rng(seed, job.answers)),
-                            Budget(evaluations=max(job.budgets)))
+                            Budget(evaluations=largest), recommend_at=range(1, largest + 1))
+        kept = record.info.get("recommendations", {})
+
+        def model_at(n: int, kept=kept, record=record) -> Recommendation:
+            """The recommendation after n handovers: the searcher's own, or (an agent of the
+            environment, which has none) the lowest answer's location."""
+            if n in kept:
+                return kept[n]
+            best = recommendation(record.scores, n)
+            return Recommendation(None if best is None else record.cells[best])
+
         for budget in sorted(job.budgets):
             spent = min(budget, len(record.cells))
-            if entry(job.searcher).answers == "preferences":
-                found = {"preferred": (preferred(job.grid, record.cells[:budget],
-                                                 record.scores[:budget]), math.nan, spent)}
+            model = model_at(spent)
+            stop = next((n for n in range(1, spent + 1)
+                         if model_at(n).p_optimal >= job.stop_level), spent)
+            stopped = model_at(stop)
+            found = {}
+            if entry(job.searcher).model:
+                found["model"] = (model.cell, math.nan, spent, model.p_optimal)
+                if not math.isnan(model.p_optimal):  # a model that states its probability
+                    found["model, stopped"] = (stopped.cell, math.nan, stop, stopped.p_optimal)
             else:
                 best = recommendation(record.scores, budget)
                 again = source(measurement_rng(seed, job.answers, budget))
-                found = {"lowest": (best, math.nan if best is None else record.scores[best],
-                                    spent),
-                         "confirm": confirmed(record.cells, record.scores, budget,
-                                              again.score)}
-            for rule in found:
-                index, answer, spent = found[rule]
-                cell = -1 if index is None else record.cells[index]
-                true = math.inf if index is None else float(values[cell])
+                lowest = None if best is None else record.cells[best]
+                found["lowest"] = (lowest, math.nan if best is None else record.scores[best],
+                                   spent, math.nan)
+                index, answer, used = confirmed(record.cells, record.scores, budget,
+                                                again.score)
+                found["confirm"] = (None if index is None else record.cells[index], answer,
+                                    used, math.nan)
+            for rule, (cell, answer, used, p_optimal) in found.items():
+                cell = -1 if cell is None else int(cell)
+                true = math.inf if cell < 0 else float(values[cell])
                 rows.append({"worker": job.worker, "twin": job.twin, "searcher": job.searcher,
                              "answers": job.answers.label, "rule": rule, "run": run,
-                             "seed": seed, "budget": budget, "handovers": spent, "cell": cell,
-                             "answer": answer, "true_score": true, "optimum_score": lowest,
-                             "regret": true - lowest})
+                             "seed": seed, "budget": budget, "handovers": used, "cell": cell,
+                             "answer": answer, "true_score": true, "optimum_score": lowest_score,
+                             "regret": true - lowest_score, "p_optimal": p_optimal})
     return rows
 
 
-def measured_summary(runs: pd.DataFrame, seed: int) -> pd.DataFrame:
+def no_search(values: np.ndarray, grid: Grid, prior: Prior) -> float:
+    """The true regret of handing over once at the prior's location and stopping: what a site
+    gets without searching."""
+    return float(values[grid.nearest_cell(prior.location)] - values.min())
+
+
+def mean_interval(per_unit: np.ndarray, rng: np.random.Generator) -> tuple[float, float]:
+    """A 95 % percentile bootstrap interval of the mean over units (the mean itself where the
+    units agree or one is infinite)."""
+    mean = float(per_unit.mean())
+    if not (np.ptp(per_unit) > 0 and np.isfinite(per_unit).all()):
+        return mean, mean
+    found = stats.bootstrap((per_unit,), np.mean, n_resamples=2000, method="percentile",
+                            random_state=rng).confidence_interval
+    return float(found.low), float(found.high)
+
+
+def measured_summary(runs: pd.DataFrame, baseline: pd.Series, seed: int) -> pd.DataFrame:
     """Per model (in- or out-of-model), searcher, answers, rule and budget: workers, runs, the
     share of runs whose recommendation is a true optimum (interval: bootstrap over workers, at
-    least Wilson's) and the mean true regret (interval: percentile bootstrap over the workers'
-    means). Out of model, a worker is a worker with one changed twin."""
+    least Wilson's), the mean true regret, the **gain over no search** (``baseline``: each
+    worker's regret at the prior's location, :func:`no_search`; paired per worker, interval:
+    bootstrap over workers) and the **harm** (share of runs worse than no search), the
+    handovers used and the model's mean stated probability. Out of model, a worker is a worker
+    with one changed twin; the "no search" rows are the baseline itself."""
     rng = np.random.default_rng(seed)
     runs = runs.assign(model=np.where(runs["twin"] == IN_MODEL, IN_MODEL, "out-of-model"),
                        unit=runs["worker"] + "|" + runs["twin"])
+    runs["baseline"] = runs["unit"].map(baseline)
+    keys = ["model", "searcher", "answers", "rule", "budget"]
+    first = runs.drop_duplicates(["model", "answers", "unit"]).assign(
+        searcher="no search", rule="prior's location", budget=1, handovers=1,
+        regret=lambda t: t["baseline"], p_optimal=np.nan)
     rows = []
-    for key, table in runs.groupby(["model", "searcher", "answers", "rule", "budget"],
-                                   sort=False):
-        zero = (table["regret"] == 0).to_numpy()
+    for key, table in pd.concat([first, runs], ignore_index=True).groupby(keys, sort=False):
         units = table["unit"].to_numpy()
+        zero = (table["regret"] == 0).to_numpy()
         per_worker = pd.Series(zero).groupby(units).mean().to_numpy()
         low, high = success_interval(per_worker, int(zero.sum()), len(zero), rng)
         regret = table.groupby("unit")["regret"].mean().to_numpy()
-        r_low = r_high = float(regret.mean())
-        if np.ptp(regret) > 0 and np.isfinite(regret).all():
-            interval = stats.bootstrap((regret,), np.mean, n_resamples=2000,
-                                       method="percentile", random_state=rng)
-            r_low, r_high = (float(interval.confidence_interval.low),
-                             float(interval.confidence_interval.high))
-        rows.append({**dict(zip(["model", "searcher", "answers", "rule", "budget"], key,
-                                strict=True)),
+        r_low, r_high = mean_interval(regret, rng)
+        gain = (table["baseline"] - table["regret"]).groupby(units).mean().to_numpy()
+        g_low, g_high = mean_interval(gain, rng)
+        worse = (table["regret"] > table["baseline"]).to_numpy()
+        per_harm = pd.Series(worse).groupby(units).mean().to_numpy()
+        h_low, h_high = success_interval(per_harm, int(worse.sum()), len(worse), rng)
+        rows.append({**dict(zip(keys, key, strict=True)),
                      "n_workers": len(per_worker), "n_runs": len(table),
                      "p_regret_0": float(zero.mean()), "ci_low": low, "ci_high": high,
                      "mean_regret": float(regret.mean()), "regret_ci_low": r_low,
-                     "regret_ci_high": r_high})
+                     "regret_ci_high": r_high, "gain": float(gain.mean()),
+                     "gain_ci_low": g_low, "gain_ci_high": g_high, "harm": float(worse.mean()),
+                     "harm_ci_low": h_low, "harm_ci_high": h_high,
+                     "mean_handovers": float(table["handovers"].mean()),
+                     "model_p_optimal": float(table["p_optimal"].mean())})
     return pd.DataFrame(rows)

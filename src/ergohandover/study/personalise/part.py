@@ -55,7 +55,9 @@ from .measured_answers import (
     IN_MODEL,
     MeasuredJob,
     answer_models,
+    candidate_library,
     measured_summary,
+    no_search,
     run_measured_job,
     truth_key,
 )
@@ -67,6 +69,7 @@ from .sessions import (
     run_seeds,
     success_curves,
     summary,
+    values_for,
 )
 
 
@@ -163,17 +166,18 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
     if any(SEARCHERS[s].twins for s in part.measured_searchers):
-        # Every candidate's scores, computed here once for the pool's workers (the chosen
-        # workers' are, in worker_table).
-        others = [(n, e) for n, e in everyone if n not in set(chosen["worker"])]
-        for (name, _), landscape in zip(others, landscapes(engine, [e for _, e in others],
-                                                           grid), strict=True):
-            prepare_values(name, part.objective, landscape)
+        # Every candidate's scores and angles, read here once for the pool's workers.
+        landscapes(engine, [e for _, e in everyone], grid)  # swept if not in the cache
+        candidate_library(everyone, grid, part.objective).prepare()
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
                         run_seeds(part.seed, w, part.measured_runs), priors[w],
-                        tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else ())
+                        tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else (),
+                        part.stop_level)
             for s in searchers for answers in models for w, twin, e in twins]
+    baseline = pd.Series({f"{w}|{twin}": no_search(values_for(truth_key(w, twin), e, grid,
+                                                              part.objective), grid, priors[w])
+                          for w, twin, e in twins})
     print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
           f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
           f"{part.measured_runs} runs, up to {max(part.measured_budgets)} handovers each")
@@ -189,7 +193,7 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
         key=lambda c: c.map(order) if c.name == "searcher" else
         c.map(answer_order) if c.name == "answers" else c).drop(columns="_twin")
     seed = int(np.random.SeedSequence([part.seed, 1]).generate_state(1)[0])
-    return {"measured_runs": runs, "measured_summary": measured_summary(runs, seed)}
+    return {"measured_runs": runs, "measured_summary": measured_summary(runs, baseline, seed)}
 
 
 def out_of_model(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
