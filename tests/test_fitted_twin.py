@@ -1,5 +1,5 @@
-"""The fitted twin: the candidate body whose twin explains the first handovers best, and its
-optimum proposed."""
+"""The fitted twin: a posterior over candidate bodies (displaced a little) weighed by every
+measured angle, and the cell it most probably holds the worker's optimum recommended."""
 
 from __future__ import annotations
 
@@ -8,83 +8,155 @@ import math
 import numpy as np
 import pytest
 
-from ergohandover.envs.scores import ArrayScores
+from ergohandover.envs.scores import Answer, ArrayScores, objective_values
 from ergohandover.errors import ConfigError
 from ergohandover.landscape.grid import Grid
+from ergohandover.landscape.store import landscape_of
 from ergohandover.robustness.posture_error import ErrorModel
 from ergohandover.search import Budget, make, run
-from ergohandover.search.fitted_twin import FIT, TwinLibrary, fit
+from ergohandover.search.fitted_twin import (
+    FIELD_ANGLES,
+    BodyPosterior,
+    TwinLibrary,
+)
 from ergohandover.search.prior import Prior
 from ergohandover.study.personalise.measured import MeasuredScores
 from ergohandover.twin.anthropometry import BodySpec
-from ergohandover.twin.evaluate import Evaluator, evaluate_arrays
+from ergohandover.twin.evaluate import Evaluator
 from ergohandover.twin.task import Boundary
 
 GRID = Grid(Boundary((-0.1, 0.1), (0.9, 1.3), (0.35, 0.5)), 0.05)  # 5 x 9 x 4 cells
 BODIES = [BodySpec.from_percentile(p) for p in ("p5-female", "p50-male", "p95-male")]
 EVALUATORS = [Evaluator(body=b) for b in BODIES]
-PRIOR = Prior((0.0, 1.1, 0.42), (0.05, 0.05, 0.05))
-_VALUES: dict[int, np.ndarray] = {}
+PRIOR = Prior((0.0, 1.1, 0.42), (0.05, 0.05, 0.05), (0.0, 0.5, 0.3))
+NAMES = ["p5-female", "p50-male", "p95-male"]
+
+
+def landscape(i: int):
+    return landscape_of(EVALUATORS[i], GRID, progress=False)
 
 
 def values(i: int) -> np.ndarray:
-    if i not in _VALUES:
-        found = evaluate_arrays(GRID.coordinates(np.arange(GRID.size)), EVALUATORS[i])
-        _VALUES[i] = np.where(found["feasible"], found["paper_postural"], np.inf)
-    return _VALUES[i]
+    return objective_values(landscape(i), "paper_postural")
 
 
-def library() -> TwinLibrary:
-    return TwinLibrary(GRID, EVALUATORS, values, ["p5-female", "p50-male", "p95-male"])
+def library(worker: int = 1, sd: float = 2.0) -> TwinLibrary:
+    body = BODIES[worker]
+    return TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
+                       worker=(body.stature_m, body.sex), angle_sd_deg=sd)
 
 
-@pytest.mark.parametrize("worker", [0, 2])
-def test_exact_postures_pick_the_workers_own_body_and_its_optimum_comes_next(worker):
+def answer_at(worker: int, cell: int, score: float | None = None) -> Answer:
+    """The worker's exact answer at ``cell`` (its score replaced by ``score`` if given), with
+    the angles its landscape holds."""
+    found = landscape(worker)
+    if not found.feasible[cell]:
+        return Answer(math.inf, "infeasible")
+    angles = {a: float(found.arrays[a][cell]) for a in FIELD_ANGLES}
+    return Answer(values(worker)[cell] if score is None else score, "posture", posture=angles)
+
+
+@pytest.mark.parametrize("worker", [1, 2])
+def test_exact_postures_find_the_workers_own_body_and_recommend_its_optimum(worker):
     source = MeasuredScores(GRID, EVALUATORS[worker], "paper_postural", ErrorModel(0.0),
                             np.random.default_rng(0), block=3)
-    searcher = make("fitted-twin", GRID, 1, PRIOR, twins=library())
-    record = run(searcher, source, Budget(evaluations=FIT + 1))
+    # The worker's sex only: every man of the library is a candidate.
+    twins = TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
+                        worker=(1.80, "male"), angle_sd_deg=0.5)
+    searcher = make("fitted-twin", GRID, 1, PRIOR, twins=twins)
+    record = run(searcher, source, Budget(evaluations=6), recommend_at=[6])
     assert searcher.chosen == worker
-    own = values(worker)
-    assert own[record.cells[FIT]] == own.min()  # the fitted twin's optimum: the worker's own
+    best = record.info["recommendations"][6]
+    assert values(worker)[best.cell] == values(worker).min()  # the worker's own optimum
+    assert 0.5 < best.p_optimal <= 1
+    assert best == searcher.recommend()  # kept after the sixth answer was told, not before
 
 
-def test_with_scores_only_the_fit_uses_the_scores():
+def test_one_lucky_low_reading_among_higher_ones_is_not_what_it_recommends():
     own = values(1)
-    searcher = make("fitted-twin", GRID, 2, PRIOR, twins=library())
-    run(searcher, ArrayScores(GRID, own), Budget(evaluations=FIT + 2))
-    assert searcher.postures[:FIT] == [None] * FIT
-    best, misfit = fit(library(), searcher.cells[:FIT], searcher.told_answers[:FIT],
-                       [None] * FIT)
-    assert searcher.chosen == best and misfit[best] == misfit.min()
-    if np.isfinite(searcher.told_answers[:FIT]).any():
-        assert misfit[1] == 0  # its own scores explain the handovers exactly
+    feasible = np.flatnonzero(np.isfinite(own))
+    lucky = int(feasible[np.argmax(own[feasible])])  # the worst cell the worker can take
+    others = [int(c) for c in feasible if own[c] > own.min() and c != lucky][:5]
+    cells = [*others, lucky]
+    told = [answer_at(1, c) for c in others] + [answer_at(1, lucky, score=1.0)]
+    fitted = make("fitted-twin", GRID, 0, PRIOR, twins=library(1))
+    lowest = make("prior", GRID, 0, PRIOR)
+    for searcher in (fitted, lowest):
+        for cell, answer in zip(cells, told, strict=True):
+            searcher._pending = cell  # these handovers, whatever it would have proposed
+            searcher.tell(cell, answer)
+    assert lowest.recommend().cell == lucky  # the lowest reading: a lucky measurement
+    assert fitted.recommend().cell != lucky
+    assert own[fitted.recommend().cell] < own[lucky]
 
 
-def test_a_fit_needs_a_feasible_handover_and_the_searcher_needs_twins():
-    with pytest.raises(ConfigError, match="there is none"):
-        fit(library(), [0, 1], [math.inf, math.inf], [None, None])
+def test_scores_alone_weigh_the_candidates_by_their_scores():
+    posterior = BodyPosterior(TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
+                                          worker=(1.75, "male")), PRIOR)
+    truth = values(2)
+    before = posterior.candidate_weights()
+    cells = [c for c in np.flatnonzero(np.isfinite(truth))
+             if values(1)[c] != truth[c]][:4]
+    for cell in cells:
+        posterior.update(int(cell), Answer(float(truth[cell])))
+    after = posterior.candidate_weights()
+    assert after[0] == 0  # a woman is no candidate for a man
+    assert after[2] / after[1] > before[2] / before[1]
+
+
+def test_a_handover_the_worker_could_not_take_counts_against_candidates_who_could():
+    posterior = BodyPosterior(library(1), PRIOR)
+    reachable = [np.isfinite(values(i)) for i in (1, 2)]
+    cell = int(np.flatnonzero(reachable[1] & ~reachable[0])[0])  # the taller man reaches it
+    before = posterior.candidate_weights()
+    posterior.update(cell, Answer(math.inf, "infeasible"))
+    after = posterior.candidate_weights()
+    assert after[1] / after[2] > before[1] / before[2]
+
+
+def test_displacements_follow_the_grid_and_the_optimum_probability_is_a_probability():
+    coarse = BodyPosterior(library(1), PRIOR)
+    assert len(coarse.shifts) == 1  # 5 cm cells: no displacement fits within 2 cm
+    fine = Grid(Boundary((-0.02, 0.02), (1.0, 1.1), (0.4, 0.46)), 0.01)
+    lib = TwinLibrary(fine, EVALUATORS, lambda i: landscape_of(EVALUATORS[i], fine,
+                                                               progress=False),
+                      "paper_postural", NAMES, worker=(1.75, "male"))
+    posterior = BodyPosterior(lib, PRIOR)
+    assert len(posterior.shifts) == 25 and set(posterior.shifts[:, 0]) == {0}
+    p = posterior.p_optimal()
+    assert ((p >= 0) & (p <= 1 + 1e-12)).all() and p.max() > 0
+    assert posterior.weights.sum() == pytest.approx(1.0)
+
+
+def test_the_searcher_needs_twins_and_a_prior():
     with pytest.raises(ConfigError, match="needs candidate twins"):
         make("fitted-twin", GRID, 0, PRIOR)
+    with pytest.raises(ConfigError, match="needs a worker's prior"):
+        make("fitted-twin", GRID, 0, None, twins=library())
 
 
-def test_measured_runs_read_the_fitted_twins_choice_at_every_budget():
+def test_proposals_are_new_cells_and_the_runs_read_the_model_at_every_budget():
     from ergohandover.study.personalise.measured_answers import (
         Answers,
         MeasuredJob,
         run_measured_job,
     )
 
+    searcher = make("fitted-twin", GRID, 3, PRIOR, twins=library(2))
+    record = run(searcher, ArrayScores(GRID, values(2)), Budget(evaluations=8))
+    assert len(set(record.cells)) == 8
+
     job = MeasuredJob("p95-male", "in-model", EVALUATORS[2], GRID, "paper_postural",
                       "fitted-twin", Answers("posture", 2.0), (3, 5, 8), (7,), PRIOR,
-                      (("a", EVALUATORS[0]), ("b", EVALUATORS[1]), ("c", EVALUATORS[2])))
+                      tuple(zip(NAMES, EVALUATORS, strict=True)), stop_level=0.5)
     rows = run_measured_job(job)
-    assert {r["rule"] for r in rows} == {"lowest", "confirm"}
-    assert all(r["regret"] >= 0 for r in rows)
-    # The true score of what it recommends is the worker's own (candidate c is its body).
-    lowest = {r["budget"]: r for r in rows if r["rule"] == "lowest"}
-    for row in lowest.values():
-        assert row["true_score"] == values(2)[row["cell"]]
+    assert {r["rule"] for r in rows} == {"model", "model, stopped"}
+    assert all(r["regret"] >= 0 and 0 <= r["p_optimal"] <= 1 for r in rows)
+    for r in rows:
+        assert r["true_score"] == values(2)[r["cell"]]
+        assert r["handovers"] <= r["budget"]
+        if r["rule"] == "model, stopped" and r["handovers"] < r["budget"]:
+            assert r["p_optimal"] >= 0.5  # it stopped because its model was that sure
 
 
 def test_train_does_not_offer_it_without_candidate_twins():
@@ -112,7 +184,7 @@ def zed34_frames() -> list[str]:
     return [",".join(repr(float(v)) for v in points.ravel()) for points in kp.points]
 
 
-@pytest.mark.slow  # each candidate body's solver solves its warm-start lattice first
+@pytest.mark.slow  # each candidate body's landscape is swept first
 def test_the_command_fits_a_twin_to_captured_frames_and_resumes_it(tmp_path):
     import json
 
@@ -126,7 +198,7 @@ def test_the_command_fits_a_twin_to_captured_frames_and_resumes_it(tmp_path):
     assert whole.returncode == 0, whole.stderr
     assert "fitted twin: " in whole.stdout
     saved = json.loads((tmp_path / "whole" / "state.json").read_text())["history"]
-    assert all(h["posture"] is not None for h in saved[:FIT])  # the angles each frame carried
+    assert all(h["posture"] is not None for h in saved[:3])  # the angles each frame carried
     # Stopped after two answers, then resumed: the same proposals and the same fit.
     first = run_cli(*argv, "--output", str(tmp_path / "split"), stdin="\n".join(frames[:2]) + "\n")
     assert first.returncode == 3, first.stderr

@@ -1,7 +1,8 @@
 """The committed personalisation study: at least seven searchers (the population prior,
-Bayesian optimisation, CMA-ES, PSO, SAC, random order and the paper's Q-learning among them)
-on at least 30 workers with at least 10 paired runs each; every summary row read again from the
-runs; the report's blocks and the command's default searcher equal to what the results say."""
+CMA-ES, PSO, random order and the paper's Q-learning among them) on at least 30 workers with at
+least 10 paired runs each; with answers as a site gets them, five runs each and every row
+read against no search; every summary row read again from the runs; the report's blocks and
+the command's default searcher equal to what the results say."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ import personalise_tables  # noqa: E402
 from readme_blocks import block  # noqa: E402
 
 FOLDER = ROOT / "results" / "personalise"
-REQUIRED = {"prior", "bo+prior", "cmaes", "pso", "sac", "random-order", "qlearning"}
+REQUIRED = {"prior", "cmaes", "pso", "random-order", "qlearning"}
 COLUMNS = ["searcher", "target", "budget", "n_workers", "n_runs", "success_rate", "ci_low",
            "ci_high", "median_evals_to_optimum", "median_evals_to_within_1"]
 
@@ -112,16 +113,24 @@ def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin(
     runs, summary = read("measured_runs.csv"), read("measured_summary.csv")
     labels = {a.label for a in answer_models(part.measured_sds, part.measured_iccs)}
     assert len(labels) >= 6 and {"exact", "posture SD 10 deg", "rater ICC 0.51"} <= labels
-    rules = {s: (["preferred"] if s.startswith("pairwise") else ["lowest", "confirm"])
+    rules = {s: (["model", "model, stopped"] if s == "fitted-twin" else ["model"]
+                 if s.startswith("pairwise") else ["lowest", "confirm"])
              for s in part.measured_searchers}
     keys = {(m, s, a, r, b) for m in ("in-model", "out-of-model") for s in part.measured_searchers
             for a in labels for r in rules[s] for b in part.budgets_of(s, measured=True)}
+    keys |= {(m, "no search", a, "prior's location", 1) for m in ("in-model", "out-of-model")
+             for a in labels}
     assert set(zip(summary["model"], summary["searcher"], summary["answers"], summary["rule"],
                    summary["budget"], strict=True)) == keys
     inside = summary["model"] == "in-model"
     assert (summary.loc[inside, "n_workers"] == part.workers).all()
     outside = part.measured_variant_workers * len(part.measured_variants)
     assert (summary.loc[~inside, "n_workers"] == outside).all() and outside >= 15
+    searched = summary["searcher"] != "no search"
+    headline = summary["answers"] == f"posture SD {part.headline_sd:g} deg"
+    runs_each = np.where(headline, part.headline_runs, part.measured_runs)
+    assert part.headline_runs == 5
+    assert (summary.loc[searched, "n_runs"] == (runs_each * summary["n_workers"])[searched]).all()
     assert set(runs["twin"]) == {"in-model", *part.measured_variants}
     assert (runs["regret"] >= 0).all() and (runs["handovers"] <= runs["budget"]).all()
     # Exact answers are the truth; a true score is the worker's (or changed twin's) own.
@@ -131,7 +140,31 @@ def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin(
     runs = runs.assign(model=np.where(runs["twin"] == "in-model", "in-model", "out-of-model"))
     shares = runs.assign(zero=runs["regret"] == 0).groupby(
         ["model", "searcher", "answers", "rule", "budget"], sort=False)["zero"].mean()
-    for row in summary.itertuples():
+    for row in summary[searched].itertuples():
         key = (row.model, row.searcher, row.answers, row.rule, row.budget)
         assert row.p_regret_0 == pytest.approx(shares[key])
         assert row.ci_low <= row.p_regret_0 <= row.ci_high
+        assert row.gain_ci_low <= row.gain <= row.gain_ci_high
+        assert row.harm_ci_low <= row.harm <= row.harm_ci_high
+
+
+def test_the_gain_over_no_search_is_paired_per_worker_from_the_runs():
+    from ergohandover.study.config import StudyConfig
+
+    part = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ()).personalise
+    runs, summary = read("measured_runs.csv"), read("measured_summary.csv")
+    workers = read("workers.csv").set_index("worker")
+    nothing = summary[(summary["searcher"] == "no search") & (summary["model"] == "in-model")]
+    # No search in model: each worker's regret at its prior's location, from workers.csv's
+    # prior and the runs' optimum (the exact answers' true scores are the worker's own).
+    assert (nothing["n_workers"] == part.workers).all()
+    row = summary[(summary["model"] == "in-model") & (summary["searcher"] == "fitted-twin")
+                  & (summary["rule"] == "model") & (summary["answers"] == "posture SD 5 deg")
+                  & (summary["budget"] == 10)].iloc[0]
+    mine = runs[(runs["twin"] == "in-model") & (runs["searcher"] == "fitted-twin")
+                & (runs["rule"] == "model") & (runs["answers"] == "posture SD 5 deg")
+                & (runs["budget"] == 10)]
+    baseline = nothing[nothing["answers"] == "posture SD 5 deg"].iloc[0]
+    # The gain's mean over workers of (baseline - regret) equals the difference of the means.
+    assert row["gain"] == pytest.approx(baseline["mean_regret"] - mine["regret"].mean())
+    assert set(mine["worker"]) == set(workers.index)

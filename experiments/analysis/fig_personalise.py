@@ -7,12 +7,12 @@ beside the prior alone and random order), and a last panel: within one point of 
 study's budgets marked, and where a searcher was run to a smaller budget its curve ends with
 a note. Reads results/personalise/curves.csv and summary.csv.
 
-personalise_measured.png: with answers as a site gets them — the share of runs whose
-recommendation is a true optimum after each budget, per searcher (its own recommendation
-rule: the lowest answer, or the preferred location), with 95 % intervals over workers
-(each searcher's points set a little apart); a
-panel per answer model, in model (top) and out of model (bottom). Reads
-results/personalise/measured_summary.csv."""
+personalise_measured.png: with answers as a site gets them — each searcher's gain over not
+searching (the true regret of one handover at the prior's location minus that of its
+recommendation, paired per worker) after each budget, under its own recommendation (its model's,
+or the lowest answer), with 95 % intervals over workers (each searcher's points set a little
+apart); a panel per answer model, in model (top) and out of model (bottom), each titled with
+what no search gives. Reads results/personalise/measured_summary.csv."""
 
 from __future__ import annotations
 
@@ -175,7 +175,9 @@ def main() -> None:
 
 def measured_figure() -> None:
     summary = read("personalise/measured_summary.csv")
-    summary = summary[summary["rule"] != "confirm"]
+    own = summary["rule"].isin(("model", "lowest"))  # each searcher's own recommendation
+    baseline = summary[summary["searcher"] == "no search"]
+    summary = summary[own]
     answers = list(dict.fromkeys(summary["answers"]))
     models = ["in-model", "out-of-model"]
     searchers = list(dict.fromkeys(summary["searcher"]))
@@ -185,34 +187,37 @@ def measured_figure() -> None:
     for row, model in enumerate(models):
         for col, said in enumerate(answers):
             ax = axes[row][col]
+            ax.axhline(0, color="black", lw=1.2, label="no search (one handover at the "
+                                                       "prior's location)")
             for i, name in enumerate(searchers):
                 line = summary[(summary["model"] == model) & (summary["answers"] == said)
                                & (summary["searcher"] == name)]
                 # Each searcher's points a little apart, so that the intervals do not hide
                 # one another (the budgets are on a log axis).
                 x = line["budget"] * 1.04 ** (i - (len(searchers) - 1) / 2)
-                y = line["p_regret_0"]
-                ax.errorbar(x, y, yerr=[y - line["ci_low"], line["ci_high"] - y],
+                y = line["gain"]
+                ax.errorbar(x, y, yerr=[y - line["gain_ci_low"], line["gain_ci_high"] - y],
                             marker="o", markersize=3, linewidth=1, elinewidth=0.6, capsize=0,
                             color=colours(i), label=SEARCHERS[name].label)
+            nothing = baseline[(baseline["model"] == model) & (baseline["answers"] == said)]
             ax.set_xscale("log")
             ax.set_xticks(sorted(summary["budget"].unique()))
             ax.xaxis.set_major_formatter("{x:g}")
             ax.xaxis.set_minor_locator(plt.NullLocator())
-            ax.set_title(f"{said}, {model}", fontsize=8)
-            ax.set_ylim(0, 1.02)
+            ax.set_title(f"{said}, {model}\n(no search: optimum in "
+                         f"{nothing['p_regret_0'].iloc[0]:.0%}, regret "
+                         f"{nothing['mean_regret'].iloc[0]:.2f})", fontsize=8)
             if row == 1:
                 ax.set_xlabel("handovers")
-        axes[row][0].set_ylabel("recommendation a true optimum")
+        axes[row][0].set_ylabel("gain over no search [points of true regret]")
     handles, labels = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=7,
-               frameon=False)
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     sizes = summary.groupby("model")["n_workers"].first()
     runs = int(summary["n_runs"].iloc[0]) // int(summary["n_workers"].iloc[0])
     fig.suptitle(f"Personalising with answers as a site gets them: N = {sizes['in-model']} "
-                 f"workers in model, {sizes['out-of-model']} out of model, {runs} run each, "
-                 "equal budgets, no stop rule", fontsize=10)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))  # room for the legend below the panels
+                 f"workers in model, {sizes['out-of-model']} out of model, {runs} runs each, "
+                 "equal budgets; above 0, better than not searching", fontsize=10)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))  # room for the legend below the panels
     save(fig, "personalise_measured.png")
 
 

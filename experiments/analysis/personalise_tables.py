@@ -18,7 +18,8 @@ NAMES = {"random-order": "random order", "prior": "the population prior alone",
          "bo": "Bayesian optimisation (GP)", "tpe": "TPE", "cmaes": "CMA-ES",
          "pso": "particle swarm", "qlearning": "the paper's tabular Q-learning",
          "randomwalk": "a random walk", "sac": "Soft Actor-Critic",
-         "pairwise": "pairwise preferences (GP)", "fitted-twin": "the fitted twin"}
+         "pairwise": "pairwise preferences (GP)", "fitted-twin": "the fitted twin",
+         "no search": "no search (one handover at the prior's location)"}
 
 
 def label(searcher: str) -> str:
@@ -56,10 +57,10 @@ def command_default(measured: pd.DataFrame) -> str:
     """``ergohandover personalise``'s default: of the ask/tell searchers told scores that work
     with any answer (not the fitted twin, which needs postures), whose recommendation is the
     lowest answer (the command's rule), the one whose recommendation is
-    most often a true optimum in model at the equal budget, on average over the answer models
+    most often a true optimum in model at the headline budget, on average over the answer models
     (over all of them, not the one where it did best: a choice on more runs)."""
     rows = measured[(measured["rule"] == "lowest") & (measured["model"] == "in-model")
-                    & (measured["budget"] == equal_budget(measured))
+                    & (measured["budget"] == HEADLINE_BUDGET)
                     & measured["searcher"].map(lambda s: SEARCHERS[s].kind == "searcher"
                                                and not SEARCHERS[s].twins)]
     return str(rows.groupby("searcher")["p_regret_0"].mean().idxmax())
@@ -126,11 +127,8 @@ def ceiling(summary: pd.DataFrame) -> str:
 
 HEADLINE_ANSWERS = "posture SD 5 deg"
 """The answers the headline quotes: the posture measured with the robustness part's 5° error."""
-
-
-def equal_budget(measured: pd.DataFrame) -> int:
-    """The largest budget every searcher was run to (a costly searcher's cap sets it)."""
-    return int(measured.groupby("searcher")["budget"].max().min())
+HEADLINE_BUDGET = 10
+"""The handovers the headline quotes: a morning's handovers with one worker."""
 
 
 def share(row) -> str:
@@ -138,8 +136,8 @@ def share(row) -> str:
 
 
 def rule_label(searcher: str, rule: str) -> str:
-    said = {"lowest": "", "confirm": ", measuring the best again",
-            "preferred": ""}[rule]
+    said = {"lowest": "", "confirm": ", measuring the best again", "model": "",
+            "model, stopped": ", stopped by its model", "prior's location": ""}[rule]
     return label(searcher) + said
 
 
@@ -161,9 +159,14 @@ def at(measured: pd.DataFrame, model: str, answers: str, searcher: str, rule: st
 
 
 def own_rule(measured: pd.DataFrame) -> pd.DataFrame:
-    """Each searcher's rows under its own recommendation rule (the lowest answer, or the
-    preferred location), without the ``confirm`` alternative."""
-    return measured[measured["rule"] != "confirm"]
+    """Each searcher's rows under its own recommendation rule (its model's, or the lowest
+    answer), without the alternatives (``confirm``, a model's stop) and the baseline."""
+    return measured[measured["rule"].isin(("model", "lowest"))]
+
+
+def gain(row) -> str:
+    return (f"{row['gain']:+.2f} ({row['gain_ci_low']:+.2f} to {row['gain_ci_high']:+.2f}), "
+            f"harm {row['harm']:.0%}")
 
 
 def span(measured: pd.DataFrame, model: str, answers: str, budget: int,
@@ -180,51 +183,38 @@ def percent_span(low: float, high: float) -> str:
 
 
 def headline(summary: pd.DataFrame, measured: pd.DataFrame | None = None) -> str:
-    """The README's row: with answers as a site gets them, at an equal budget, in and out of
-    model, the range over the searchers that start from the prior, the best of them with its
-    interval, and where the ranking changes (the exact-answer figures are the report's
-    ceiling); the ceiling alone without measured answers."""
+    """The report's sentence: with answers as a site gets them, in model, at the headline
+    budget, the best searcher's gain over no search with its interval and harm, how often it
+    recommends the worker's true optimum beside no search, and out of model; the ceiling alone
+    without measured answers."""
     if measured is None:
         first = ranking(summary).iloc[0]
         return f"on {int(first['n_workers'])} sampled workers, {ceiling(summary)}"
-    budget = equal_budget(measured)
-    started = [s for s in dict.fromkeys(measured["searcher"]) if SEARCHERS[s].prior == "needs"]
-    best = best_measured(own_rule(measured[measured["searcher"].isin(started)]), "in-model",
-                         HEADLINE_ANSWERS, budget)
-    rater = min((a for a in measured["answers"].unique() if a.startswith("rater")),
-                key=lambda a: float(a.split()[-1]))
-    worst = max((a for a in measured["answers"].unique() if a.startswith("posture")),
-                key=lambda a: float(a.split()[2]))
-    at_worst = best_measured(own_rule(measured[measured["searcher"].isin(started)]),
-                             "in-model", worst, budget)
-    random = at(measured, "in-model", HEADLINE_ANSWERS, "random-order", "lowest", budget)
-    out = measured[measured["model"] == "out-of-model"]
-
-    def given(model: str, answers: str) -> str:
-        return percent_span(*span(measured, model, answers, budget, started))
-
-    return (f"answered as a site would — each handover's posture measured with 5° of error, "
-            f"{budget} handovers, no stop at a known optimum — the prior and the "
-            f"{len(started) - 1} searchers started from it recommend a worker's true optimum "
-            f"in {given('in-model', HEADLINE_ANSWERS)} of runs (N = "
-            f"{int(best['n_workers'])} workers, one run each; the best, "
-            f"{label(best['searcher'])}, {share(best)}; random order "
-            f"{random['p_regret_0']:.0%}); exact answers {given('in-model', 'exact')}, a "
-            f"{rater.replace('rater ICC', 'rater of ICC')} {given('in-model', rater)}, "
-            f"{given('out-of-model', HEADLINE_ANSWERS)} for {int(out['n_workers'].iloc[0])} "
-            f"workers whose twin differs from the prior's; at "
-            f"{worst.removeprefix('posture SD ').replace(' deg', '°')} the best is "
-            f"{label(at_worst['searcher'])} ({at_worst['p_regret_0']:.0%})")
+    inside = own_rule(measured[measured["searcher"] != "random-order"])
+    best = best_measured(inside, "in-model", HEADLINE_ANSWERS, HEADLINE_BUDGET)
+    nothing = at(measured, "in-model", HEADLINE_ANSWERS, "no search", "prior's location", 1)
+    out = at(measured, "out-of-model", HEADLINE_ANSWERS, best["searcher"], best["rule"],
+             HEADLINE_BUDGET)
+    out_nothing = at(measured, "out-of-model", HEADLINE_ANSWERS, "no search",
+                     "prior's location", 1)
+    runs = int(best["n_runs"]) // int(best["n_workers"])
+    return (f"answered as a site would — each handover's posture measured with 5° of error — "
+            f"after {HEADLINE_BUDGET} handovers {label(best['searcher'])} gains "
+            f"{gain(best)} points of true regret over handing over once at the prior's "
+            f"location (N = {int(best['n_workers'])} workers, {runs} runs each) and recommends "
+            f"a worker's true optimum in {share(best)} of runs against no search's "
+            f"{share(nothing)}; for {int(out['n_workers'])} workers whose twin differs from "
+            f"the prior's, {share(out)} against {out_nothing['p_regret_0']:.0%}")
 
 
 def measured_table(measured: pd.DataFrame) -> list[str]:
-    """Per model, searcher and rule: the share of runs whose recommendation after the equal
-    budget is a true optimum (95 % interval over workers) under each answer model."""
-    budget = equal_budget(measured)
+    """Per model, searcher and rule: the share of runs whose recommendation after the headline
+    budget is a true optimum (95 % interval over workers) under each answer model; no
+    search's first."""
     answers = list(dict.fromkeys(measured["answers"]))
     lines = [f"| workers | searcher | {' | '.join(answers)} |",
              "|---|---|" + "---|" * len(answers)]
-    rows = measured[measured["budget"] == budget].sort_values(
+    rows = measured[measured["budget"].isin((1, HEADLINE_BUDGET))].sort_values(
         "model", kind="stable", key=lambda c: c != "in-model")
     for (model, searcher, rule), table in rows.groupby(["model", "searcher", "rule"],
                                                         sort=False):
@@ -236,20 +226,25 @@ def measured_table(measured: pd.DataFrame) -> list[str]:
 
 
 def measured_budgets(measured: pd.DataFrame, answers: str = HEADLINE_ANSWERS) -> list[str]:
-    """In model, under one answer model: the share at a true optimum after each budget and
-    the mean true regret at the headline budget, per searcher and rule."""
+    """In model, under one answer model: the share at a true optimum after each budget, and
+    the gain over no search with its harm at the headline budget, per searcher and rule (no
+    search's first)."""
     rows = measured[(measured["model"] == "in-model") & (measured["answers"] == answers)]
-    budgets, equal = sorted(rows["budget"].unique()), equal_budget(measured)
+    budgets = sorted(b for b in rows["budget"].unique() if b > 1)
     head = " | ".join(f"after {b}" for b in budgets)
-    lines = [f"| searcher | a true optimum {head} | mean true regret after {equal} "
-             "[points] |", "|---|" + "---|" * len(budgets) + "---|"]
+    lines = [f"| searcher | a true optimum {head} | gain over no search after "
+             f"{HEADLINE_BUDGET} [points], harm | handovers used |",
+             "|---|" + "---|" * len(budgets) + "---|---|"]
     for (searcher, rule), table in rows.groupby(["searcher", "rule"], sort=False):
         found = table.set_index("budget")
+        if searcher == "no search":
+            lines.append(f"| {label(searcher)} | {share(found.loc[1])} (one handover) | "
+                         + " | ".join("" for _ in budgets[1:]) + " | — | 1 |")
+            continue
         cells = [share(found.loc[b]) if b in found.index else "not run" for b in budgets]
-        last = found.loc[equal]
-        lines.append(f"| {rule_label(searcher, rule)} | {' | '.join(cells)} | "
-                     f"{last['mean_regret']:.2f} ({last['regret_ci_low']:.2f}–"
-                     f"{last['regret_ci_high']:.2f}) |")
+        last = found.loc[HEADLINE_BUDGET]
+        lines.append(f"| {rule_label(searcher, rule)} | {' | '.join(cells)} | {gain(last)} | "
+                     f"{last['mean_handovers']:.1f} |")
     return lines
 
 

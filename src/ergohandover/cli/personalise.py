@@ -345,7 +345,8 @@ def converse(args, started, evaluator, grid, prior, searcher, settings, output: 
              state: Path, new_folder: bool) -> int:
     """The session itself, its state held by this process: propose, hear, save, report."""
     from ..search.answers import AnswerReader, PreferenceReader
-    from ..search.oracles import AnswersEnded
+    from ..search.oracles import AnswersEnded, in_cm
+    from ..search.registry import entry
     from ..search.session import run as run_session
 
     session = open_session(args, state, settings, searcher)
@@ -371,8 +372,11 @@ def converse(args, started, evaluator, grid, prior, searcher, settings, output: 
         exc.kept = f"; {saved(session, resume)}"  # the stop's one line says it
         raise
     oracle.finish()
-    if getattr(searcher, "chosen", None) is not None:
+    if entry(args.searcher).twins:
+        model = searcher.recommend()
         print(f"fitted twin: {searcher.twins.names[searcher.chosen]}", flush=True)
+        print(f"its model recommends {in_cm(grid.point(model.cell))}: a {model.p_optimal:.0%} "
+              "probability that it is this worker's optimum", flush=True)
     best = session.best(searcher)
     sure = session.uncertainty(best, searcher)
     report(args, session, best, stopped, sure)

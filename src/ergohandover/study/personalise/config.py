@@ -62,7 +62,12 @@ class PersonaliseConfig:
     measured_sds: tuple[float, ...] = setting((0.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     measured_iccs: tuple[float, ...] = setting((0.89, 0.51), lo=0, hi=1)
     measured_budgets: tuple[int, ...] = setting((5, 10, 25), lo=2)
-    measured_runs: int = setting(5, lo=0)
+    # Runs per worker: `headline_runs` under the headline's answers (postures measured with
+    # `headline_sd` of error), `measured_runs` under the others (configs/personalise_full.json:
+    # 5 under every answer model).
+    measured_runs: int = setting(1, lo=0)
+    headline_sd: float = setting(5.0, lo=0, unit="deg")
+    headline_runs: int = setting(5, lo=0)
     measured_variants: tuple[str, ...] = setting(MEASURED_VARIANTS)
     measured_variant_workers: int = setting(5, lo=0)
     # The stopping rule's level: stop once the searcher's model gives its recommendation this
@@ -91,6 +96,11 @@ class PersonaliseConfig:
                 raise ConfigError(f"personalise.searchers: {name!r} is told preferences, and "
                                   "these runs stop at the worker's optimum score (use it in "
                                   "measured_searchers)")
+
+    def runs_of(self, answers) -> int:
+        """Runs per worker under an answer model (:class:`.measured_answers.Answers`)."""
+        headline = answers.kind == "posture" and answers.level == self.headline_sd
+        return self.headline_runs if headline else self.measured_runs
 
     def budgets_of(self, searcher: str, measured: bool = False) -> list[int]:
         """The budgets a searcher is reported at (``measured``: with answers as a site gets

@@ -159,7 +159,7 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     if the configuration asks for none). ``everyone``: (name, evaluator) of the population's
     sampled workers, the candidates of a fitted twin (each worker's are the others)."""
     models = answer_models(part.measured_sds, part.measured_iccs)
-    if not (part.measured_runs and models and part.measured_searchers):
+    if not (models and part.measured_searchers) or not any(part.runs_of(a) for a in models):
         return {}
     twins = [(w, IN_MODEL, e) for w, e in zip(chosen["worker"], evaluators, strict=True)]
     twins += out_of_model(part, chosen, evaluators, grid, engine)
@@ -171,16 +171,19 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
         candidate_library(everyone, grid, part.objective).prepare()
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
-                        run_seeds(part.seed, w, part.measured_runs), priors[w],
+                        run_seeds(part.seed, w, part.runs_of(answers)), priors[w],
                         tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else (),
                         part.stop_level)
-            for s in searchers for answers in models for w, twin, e in twins]
+            for s in searchers for answers in models if part.runs_of(answers)
+            for w, twin, e in twins]
     baseline = pd.Series({f"{w}|{twin}": no_search(values_for(truth_key(w, twin), e, grid,
                                                               part.objective), grid, priors[w])
                           for w, twin, e in twins})
     print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
           f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
-          f"{part.measured_runs} runs, up to {max(part.measured_budgets)} handovers each")
+          f"{part.headline_runs} runs under posture SD {part.headline_sd:g} deg and "
+          f"{part.measured_runs} under the others, up to {max(part.measured_budgets)} "
+          "handovers each")
     rows = [row for found in run_jobs(engine, run_measured_job, jobs, "answers with error")
             for row in found]
     order = {s: i for i, s in enumerate(part.measured_searchers)}
