@@ -91,8 +91,9 @@ def test_one_lucky_low_reading_among_higher_ones_is_not_what_it_recommends():
 
 
 def test_scores_alone_weigh_the_candidates_by_their_scores():
+    between = (BODIES[1].stature_m + BODIES[2].stature_m) / 2  # both men are candidates
     posterior = BodyPosterior(TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
-                                          worker=(1.75, "male")), PRIOR)
+                                          worker=(between, "male")), PRIOR)
     truth = values(2)
     before = posterior.candidate_weights()
     cells = [c for c in np.flatnonzero(np.isfinite(truth))
@@ -105,13 +106,20 @@ def test_scores_alone_weigh_the_candidates_by_their_scores():
 
 
 def test_a_handover_the_worker_could_not_take_counts_against_candidates_who_could():
-    posterior = BodyPosterior(library(1), PRIOR)
-    reachable = [np.isfinite(values(i)) for i in (1, 2)]
-    cell = int(np.flatnonzero(reachable[1] & ~reachable[0])[0])  # the taller man reaches it
+    wide = Grid(Boundary((-0.1, 0.1), (0.5, 2.1), (0.3, 0.9)), 0.1)  # beyond a short man's reach
+    lib = TwinLibrary(wide, EVALUATORS, lambda i: landscape_of(EVALUATORS[i], wide,
+                                                               progress=False),
+                      "paper_postural", NAMES,
+                      worker=((BODIES[1].stature_m + BODIES[2].stature_m) / 2, "male"))
+    posterior = BodyPosterior(lib, PRIOR)
+    reachable = [np.isfinite(lib.values(i)) for i in (1, 2)]
+    cell = int(np.flatnonzero(reachable[0] != reachable[1])[0])  # one man reaches it
+    unable = 1 if not reachable[0][cell] else 2  # the man who cannot take the box there
+    other = 3 - unable
     before = posterior.candidate_weights()
     posterior.update(cell, Answer(math.inf, "infeasible"))
     after = posterior.candidate_weights()
-    assert after[1] / after[2] > before[1] / before[2]
+    assert after[unable] / after[other] > before[unable] / before[other]
 
 
 def test_displacements_follow_the_grid_and_the_optimum_probability_is_a_probability():

@@ -209,14 +209,16 @@ def measured_figure() -> None:
                          f"{nothing['mean_regret'].iloc[0]:.2f})", fontsize=8)
             if row == 1:
                 ax.set_xlabel("handovers")
-        axes[row][0].set_ylabel("gain over no search [points of true regret]")
+        axes[row][0].set_ylabel("gain over no search [points]")
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     sizes = summary.groupby("model")["n_workers"].first()
-    runs = int(summary["n_runs"].iloc[0]) // int(summary["n_workers"].iloc[0])
+    each = (summary["n_runs"] // summary["n_workers"]).groupby(summary["answers"]).max()
+    runs = ", ".join(f"{n} under {a}" for a, n in each.items() if n != each.min())
+    runs = f"{runs}, {each.min()} under the others" if runs else f"{each.min()} each"
     fig.suptitle(f"Personalising with answers as a site gets them: N = {sizes['in-model']} "
-                 f"workers in model, {sizes['out-of-model']} out of model, {runs} runs each, "
-                 "equal budgets; above 0, better than not searching", fontsize=10)
+                 f"workers in model, {sizes['out-of-model']} out of model; runs per worker: "
+                 f"{runs}; above 0, better than not searching", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 1))  # room for the legend below the panels
     save(fig, "personalise_measured.png")
 

@@ -61,7 +61,8 @@ def command_default(measured: pd.DataFrame) -> str:
     (over all of them, not the one where it did best: a choice on more runs)."""
     rows = measured[(measured["rule"] == "lowest") & (measured["model"] == "in-model")
                     & (measured["budget"] == HEADLINE_BUDGET)
-                    & measured["searcher"].map(lambda s: SEARCHERS[s].kind == "searcher"
+                    & measured["searcher"].map(lambda s: s in SEARCHERS
+                                               and SEARCHERS[s].kind == "searcher"
                                                and not SEARCHERS[s].twins)]
     return str(rows.groupby("searcher")["p_regret_0"].mean().idxmax())
 

@@ -14,11 +14,12 @@ candidate's at the displaced cell) and where the worker's optimum lies (the cand
   is (:data:`STATURE_BANDWIDTH_M`); displacements centred where the population prior's slope
   moves an optimum for the stature difference (:attr:`~.prior.Prior.per_metre`), spread
   :data:`SHIFT_SD_M`.
-- **Likelihood** of each handover: every angle the answer measured (NaN: unseen, left out)
-  against the hypothesis's angles there, Gaussian with the instrument's SD and the bodies'
-  own spread (:data:`BODY_SD_DEG`) added in quadrature; an answer of a score alone, Gaussian
-  on the score (:data:`SCORE_SD`); a hypothesis wrong about whether the worker could take the
-  box there is charged :data:`FEASIBILITY_MISS`.
+- **Likelihood** of each handover: every angle the answer measured that a landscape holds
+  (:data:`FIELD_ANGLES`; NaN: unseen, left out) against the hypothesis's angles there, Gaussian
+  with the instrument's SD and the bodies' own spread (:data:`BODY_SD_DEG`) added in
+  quadrature; an answer of a score alone, Gaussian on the score (:data:`SCORE_SD`); a
+  hypothesis wrong about whether the worker could take the box there is charged
+  :data:`FEASIBILITY_MISS`.
 - **Recommendation** (:meth:`FittedTwinSearcher.recommend`): the cell with the highest posterior
   probability of being the worker's optimum, and that probability; a single low reading moves
   it only as far as it moves the posterior.
@@ -210,8 +211,8 @@ class BodyPosterior:
     def update(self, cell: int, answer: Answer) -> None:
         """Weigh every hypothesis by how well it explains the answer at ``cell``."""
         sources, inside = self.sources(cell)
-        # Hypotheses already negligible are dropped for good (their candidates' angles are
-        # never solved again).
+        # Hypotheses already negligible are dropped for good (their candidates are never read
+        # again).
         live = self.log_weight > self.log_weight.max() + math.log(PRUNE)
         alive = np.flatnonzero(live.any(axis=1))
         feasible_worker = math.isfinite(answer.score)
@@ -238,26 +239,23 @@ class BodyPosterior:
         self._p_optimal = None
 
     def p_optimal(self) -> np.ndarray:
-        """(grid.size,) each cell's posterior probability of being the worker's optimum."""
+        """(grid.size,) each cell's posterior probability of being the worker's optimum: the
+        summed weight of the hypotheses whose optimum includes it (an optimum is a plateau of
+        cells, every one of them the optimum)."""
         if self._p_optimal is None:
             weights = self.weights
-            self._p_optimal = self._plateau_probability(weights)
+            total = np.zeros(int(self.shape.prod()))
+            for k in np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max()):
+                cells = self.library.optimum(int(k))
+                index = np.array(np.unravel_index(cells, tuple(self.shape))).T  # (n, 3)
+                moved = index[None, :, :] + self.shifts[:, None, :]  # (D, n, 3)
+                inside = ((moved >= 0) & (moved < self.shape)).all(axis=2)
+                flat = np.ravel_multi_index(tuple(np.clip(moved, 0, self.shape - 1).T),
+                                            tuple(self.shape)).T  # (D, n)
+                share = np.broadcast_to(weights[k][:, None], flat.shape)
+                total += np.bincount(flat[inside], share[inside], minlength=total.size)
+            self._p_optimal = np.minimum(total, 1.0)  # 1 but for rounding
         return self._p_optimal
-
-    def _plateau_probability(self, weights: np.ndarray) -> np.ndarray:
-        """The summed weight of the hypotheses whose optimum includes each cell (a worker's
-        optimum is a plateau of cells: every one of them is the optimum)."""
-        total = np.zeros(int(self.shape.prod()))
-        for k in np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max()):
-            cells = self.library.optimum(int(k))
-            index = np.array(np.unravel_index(cells, tuple(self.shape))).T  # (n, 3)
-            moved = index[None, :, :] + self.shifts[:, None, :]  # (D, n, 3)
-            inside = ((moved >= 0) & (moved < self.shape)).all(axis=2)
-            flat = np.ravel_multi_index(tuple(np.clip(moved, 0, self.shape - 1).T),
-                                        tuple(self.shape)).T  # (D, n)
-            share = np.broadcast_to(weights[k][:, None], flat.shape)
-            total += np.bincount(flat[inside], share[inside], minlength=total.size)
-        return np.minimum(total, 1.0)
 
 
 class FittedTwinSearcher(NewCellSearcher):
@@ -295,12 +293,9 @@ class FittedTwinSearcher(NewCellSearcher):
         super().search(evaluations)
         return {"fitted_twin": self.twins.names[self.chosen]}
 
-    def _ranked(self, cells: np.ndarray | None = None) -> np.ndarray:
+    def _ranked(self) -> np.ndarray:
         """Cells by the optimum's probability, highest first (equal: nearest the prior)."""
-        p = self.posterior.p_optimal()
-        if cells is None:
-            return np.lexsort((self._distance, -p))
-        return cells[np.lexsort((self._distance[cells], -p[cells]))]
+        return np.lexsort((self._distance, -self.posterior.p_optimal()))
 
     def recommend(self) -> Recommendation:
         cell = int(self._ranked()[0])
@@ -314,11 +309,6 @@ class FittedTwinSearcher(NewCellSearcher):
 
     def _learn(self, cell: int, score: float) -> None:
         self.posterior.update(cell, self.heard[cell])
-
-    @property
-    def postures(self) -> list[dict[str, float] | None]:
-        """The angles each answer carried, in the order told (None: a score alone)."""
-        return [self.heard[c].posture for c in self.cells]
 
 
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,

@@ -85,7 +85,7 @@ QUESTIONS = (
         "headline.csv": (), "locations.csv": (), "posture_error.csv": ()}, 20, True),
     Question("personalise", ("population",), {
         "runs.csv": (), "summary.csv": (), "curves.csv": (), "workers.csv": (),
-        "measured_runs.csv": (), "measured_summary.csv": ()}, 1100, True,
+        "measured_runs.csv": (), "measured_summary.csv": ()}, 700, True,
         "fig_personalise"),
     Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 15, False,
              "fig_capture"),

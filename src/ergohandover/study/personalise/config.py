@@ -48,7 +48,7 @@ class PersonaliseConfig:
     # (and Bayesian optimisation without the prior).
     budget_caps: dict[str, int] = setting({"bo+prior": 25, "tpe": 250, "tpe+prior": 250,
                                            "sac": 100, "sac+prior": 100}, lo=1)
-    # Answers as a site gets them (measured_answers.py): equal budgets, no stop rule, the
+    # Answers as a site gets them (measured_answers.py): equal budgets, a model's stop, the
     # recommendation's true regret; posture errors of each SD [deg], raters of each ICC (the
     # intra-rater ICC of the final REBA score of an expert, 0.89 (0.78-0.95), and a novice, 0.51
     # (0.25-0.74): Balogh et al. 2025, PLOS One 20(5):e0323262, 21 videos rated twice), and

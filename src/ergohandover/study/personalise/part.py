@@ -11,7 +11,7 @@ until it evaluates a cell at the worker's own minimum of the objective or spends
 budget. Budgets are read from those runs (a run succeeds at budget B when it reached the target
 within B evaluations). Then the same workers, and workers whose twin differs from the prior's,
 are answered as a site would answer (:mod:`.measured_answers`: measured postures, raters, or
-preferences) at equal budgets with no stop rule.
+preferences) at equal budgets, each recommendation read against no search.
 
 Writes results/personalise/:
   workers.csv   each worker: body, own optimum (score, cells at it, share of the grid), its
@@ -27,8 +27,10 @@ Writes results/personalise/:
                         recommendation rule, run and budget, the recommendation and its true
                         regret
   measured_summary.csv  per model (in, out), searcher, answer model, rule and budget: the
-                        share of runs whose recommendation is a true optimum and the mean true
-                        regret, with intervals over workers
+                        share of runs whose recommendation is a true optimum, the mean true
+                        regret, the gain over no search and the harm (runs worse than it),
+                        the handovers used and the model's stated probability, with intervals
+                        over workers; "no search" rows: one handover at the prior's location
   manifest.json
 """
 
@@ -180,9 +182,9 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
                                                               part.objective), grid, priors[w])
                           for w, twin, e in twins})
     print(f"  answers with error: {len(part.measured_searchers)} searchers x {len(models)} "
-          f"answer models x {len(twins)} workers ({len(chosen)} in model) x "
-          f"{part.headline_runs} runs under posture SD {part.headline_sd:g} deg and "
-          f"{part.measured_runs} under the others, up to {max(part.measured_budgets)} "
+          f"answer models x {len(twins)} workers ({len(chosen)} in model); runs a worker: "
+          f"{part.headline_runs} under posture SD {part.headline_sd:g} deg, "
+          f"{part.measured_runs} under the others; up to {max(part.measured_budgets)} "
           "handovers each")
     rows = [row for found in run_jobs(engine, run_measured_job, jobs, "answers with error")
             for row in found]
