@@ -160,13 +160,14 @@ def main() -> None:
                fontsize=8, bbox_to_anchor=(0.5, 0.955), frameon=False, handlelength=3)
     fig.tight_layout(rect=(0, 0, 1, 0.94))
     ends = ", ".join(f"{label(n)} to {end:,}" for n, end in stopped.items())
+    capped = ("Searchers whose proposals cost the most computing time were run to a smaller "
+              f"budget, where their curves end: {ends}. ") if stopped else ""
     caption(fig, "Each panel: one search method from scratch (solid) and started from the "
                  "worker's prior (dashed, '+ prior'), beside the population prior alone (black) "
                  "and random order (grey). The population prior: the optimum expected from the "
                  "worker's stature and sex, fitted on the other workers. Vertical lines: the "
-                 f"budgets of {', '.join(f'{b:,}' for b in budgets)} handovers. Searchers whose "
-                 "proposals cost the most computing time were run to a smaller budget, where "
-                 f"their curves end: {ends}. Last panel: a cell at most one point above the "
+                 f"budgets of {', '.join(f'{b:,}' for b in budgets)} handovers. {capped}"
+                 "Last panel: a cell at most one point above the "
                  "optimum; the population prior and every searcher started from it are there "
                  "in every run from the first handover (one line at 1).", width=165)
     save(fig, "personalise.png")

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..envs.scores import Answer, objective_values
 from ..errors import ConfigError
-from ..landscape.cache import Landscape
+from ..landscape import Landscape
 from ..landscape.grid import Grid
 from ..landscape.sweep import ANGLES as LANDSCAPE_ANGLES
 from ..twin.evaluate import Evaluator
