@@ -54,7 +54,6 @@ from ...search import Budget, entry, make
 from ...search import run as run_search
 from ...search.fitted_twin import TwinLibrary
 from ...search.prior import Prior
-from ...search.protocol import Recommendation
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
@@ -230,31 +229,24 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
                                   if job.answers.kind == "posture" else 0.0)
     rows = []
     largest = max(job.budgets)
+    model = entry(job.searcher).model
     for run, seed in enumerate(job.seeds):
         record = run_search(make(job.searcher, job.grid, seed, prior, twins=twins),
                             source(measurement_rng(seed, job.answers)),
-                            Budget(evaluations=largest), recommend_at=range(1, largest + 1))
-        kept = record.info.get("recommendations", {})
-
-        def model_at(n: int, kept=kept, record=record) -> Recommendation:
-            """The recommendation after n handovers: the searcher's own, or (an agent of the
-            environment, which has none) the lowest answer's location."""
-            if n in kept:
-                return kept[n]
-            best = recommendation(record.scores, n)
-            return Recommendation(None if best is None else record.cells[best])
-
+                            Budget(evaluations=largest),
+                            recommend_at=range(1, largest + 1) if model else ())
+        kept = record.info.get("recommendations", {})  # handovers -> the model's, if it has one
         for budget in sorted(job.budgets):
             spent = min(budget, len(record.cells))
-            model = model_at(spent)
-            stop = next((n for n in range(1, spent + 1)
-                         if model_at(n).p_optimal >= job.stop_level), spent)
-            stopped = model_at(stop)
             found = {}
-            if entry(job.searcher).model:
-                found["model"] = (model.cell, math.nan, spent, model.p_optimal)
-                if not math.isnan(model.p_optimal):  # a model that states its probability
-                    found["model, stopped"] = (stopped.cell, math.nan, stop, stopped.p_optimal)
+            if model:
+                now = kept[spent]
+                found["model"] = (now.cell, math.nan, spent, now.p_optimal)
+                if not math.isnan(now.p_optimal):  # a model that states its probability
+                    stop = next((n for n in range(1, spent + 1)
+                                 if kept[n].p_optimal >= job.stop_level), spent)
+                    found["model, stopped"] = (kept[stop].cell, math.nan, stop,
+                                               kept[stop].p_optimal)
             else:
                 best = recommendation(record.scores, budget)
                 again = source(measurement_rng(seed, job.answers, budget))
