@@ -43,7 +43,7 @@ MISSING_DEG = 90.0
 SURVEY_DRAWS, CANDIDATES = 400, 12
 """Bodies drawn from the survey's model for a worker's sex, and how many of them (the nearest
 in stature) are a session's candidates (:func:`survey_library`): each candidate's solver first
-solves its warm-start lattice (a second or two), which the person waits for at the fit."""
+solves the warm-start lattice nodes its grid needs, which the person waits for at the fit."""
 
 
 class TwinLibrary:
