@@ -5,8 +5,8 @@ Usage: python experiments/bench_evaluate.py [--locations N] [--workers W] [--see
 
 Locations are drawn uniformly in the default worker's boundary. Printed, from one run:
 
-- setup: numba compile (or load from its on-disk cache) and the warm-start lattice, once per
-  process tree, before any worker forks;
+- setup: numba compile (or load from its on-disk cache) and the warm-start lattice nodes the
+  locations need, once per process tree, before any worker forks;
 - the single-process rate of the whole pipeline (``evaluate(..., workers=1)``);
 - the rate over ``--workers`` processes (``evaluate(..., workers=W)``);
 - PyBullet's own IK (``PyBulletSolver.solve``: calculateInverseKinematics2 on both hands,
@@ -59,8 +59,8 @@ def main() -> None:
           f"{args.workers} worker process(es)")
 
     start = time.perf_counter()
-    posture_solver(Evaluator(body, task))
-    print(f"setup (numba compile or cache load + warm-start lattice): "
+    posture_solver(Evaluator(body, task), locations)
+    print(f"setup (numba compile or cache load + warm-start lattice nodes): "
           f"{time.perf_counter() - start:.2f} s, once per process tree")
 
     start = time.perf_counter()

@@ -103,6 +103,23 @@ def test_the_fast_path_is_order_and_batch_independent_bit_for_bit(solvers, point
     np.testing.assert_array_equal(fast.solve(points).q, whole.q)  # repeated calls
 
 
+def test_a_lattice_solved_as_locations_need_it_equals_one_solved_whole(points):
+    lazy, whole = PostureSolver(), PostureSolver()
+    asked = []
+    solve_nodes = lazy.lattice_postures
+    lazy.lattice_postures = lambda nodes: asked.append(len(nodes)) or solve_nodes(nodes)
+    first = lazy.solve(points[:20])
+    _, nodes = StartLattice.nodes(lazy.body.stature_m)
+    assert 0 < asked[0] < 0.25 * len(nodes)  # only the nodes of their cells
+    lazy.solve(points[:20])
+    assert len(asked) == 1  # and each node once
+    np.testing.assert_array_equal(lazy.solve(points).q, whole.solve(points).q)
+    np.testing.assert_array_equal(first.q, whole.solve(points[:20]).q)
+    # Reading the whole lattice solves the rest: the same postures and strategies.
+    np.testing.assert_array_equal(lazy.lattice.q, whole.lattice.q)
+    np.testing.assert_array_equal(lazy.lattice.strategy, whole.lattice.strategy)
+
+
 def _solve_q(chunk: np.ndarray) -> np.ndarray:
     return _FORK_SOLVER.solve(chunk).q
 

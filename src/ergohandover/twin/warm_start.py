@@ -27,17 +27,28 @@ def corner_weights(fraction: np.ndarray) -> np.ndarray:
 
 
 class StartLattice:
-    """Converged postures on a lattice of box locations.
+    """Converged postures on a lattice of box locations, each node solved the first time a
+    location's cell needs it.
+
+    A node's posture is a function of the node alone (``solve_nodes`` solves each location on
+    its own), so solving only the nodes a grid's cells touch gives the same starts as solving
+    the whole lattice first, whatever was asked before or in another process.
 
     Args:
         axes: the lattice coordinates along x, y, z (worker frame) [m].
-        q: (nx, ny, nz, nq) converged postures at the lattice nodes [rad].
-        strategy: (nx, ny, nz) the whole-body strategy each node's posture was solved from.
+        solve_nodes: (K, 3) node locations -> (K, nq) converged postures [rad] and (K,) the
+            whole-body strategy each was solved from.
+        nq: the number of joints.
     """
 
-    def __init__(self, axes: tuple[np.ndarray, np.ndarray, np.ndarray], q: np.ndarray,
-                 strategy: np.ndarray):
-        self.axes, self.q, self.strategy = axes, q, strategy
+    def __init__(self, axes: tuple[np.ndarray, np.ndarray, np.ndarray], solve_nodes,
+                 nq: int):
+        self.axes, self._solve = axes, solve_nodes
+        shape = tuple(len(a) for a in axes)
+        self._nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        self._q = np.zeros((*shape, nq))
+        self._strategy = np.full(shape, "", dtype=object)
+        self._solved = np.zeros(shape, dtype=bool)
 
     @staticmethod
     def nodes(stature: float) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
@@ -47,19 +58,55 @@ class StartLattice:
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         return axes, grid
 
+    @property
+    def q(self) -> np.ndarray:
+        """(nx, ny, nz, nq) the postures at every node [rad] (solving those not yet solved)."""
+        self._solve_flat(np.arange(self._solved.size))
+        return self._q
+
+    @property
+    def strategy(self) -> np.ndarray:
+        """(nx, ny, nz) the strategy every node's posture was solved from."""
+        self._solve_flat(np.arange(self._solved.size))
+        return self._strategy
+
+    def prepare(self, locations: np.ndarray) -> None:
+        """Solve the nodes of every cell of (N, 3) box locations (worker frame) [m], e.g.
+        before worker processes fork, so that they share them."""
+        cells, _ = self._cells(np.asarray(locations, dtype=float).reshape(-1, 3))
+        corners = np.stack(cells, axis=1)[:, None, :] + OFFSETS[None]  # (N, 8, 3)
+        self._solve_flat(np.ravel_multi_index(corners.reshape(-1, 3).T, self._solved.shape))
+
     def start(self, locations: np.ndarray) -> np.ndarray:
         """(N, nq) starting postures for (N, 3) box locations (worker frame) [m]."""
+        self.prepare(locations)
+        cells, fractions = self._cells(locations)
+        weight = corner_weights(np.stack(fractions, axis=1))
+        q = np.zeros((locations.shape[0], self._q.shape[-1]))
+        for corner, (dx, dy, dz) in enumerate(OFFSETS):
+            q += weight[:, corner, None] * self._q[cells[0] + dx, cells[1] + dy, cells[2] + dz]
+        return q
+
+    def _cells(self, locations: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """Each location's cell (its lowest corner's index along x, y, z) and its fractions
+        along them; a location outside the lattice takes the edge cell's nearest face."""
         cells, fractions = [], []
         for k, axis in enumerate(self.axes):
             position = (locations[:, k] - axis[0]) / (axis[1] - axis[0])
             cell = np.clip(np.floor(position).astype(np.intp), 0, len(axis) - 2)
             cells.append(cell)
             fractions.append(np.clip(position - cell, 0.0, 1.0))
-        weight = corner_weights(np.stack(fractions, axis=1))
-        q = np.zeros((locations.shape[0], self.q.shape[-1]))
-        for corner, (dx, dy, dz) in enumerate(OFFSETS):
-            q += weight[:, corner, None] * self.q[cells[0] + dx, cells[1] + dy, cells[2] + dz]
-        return q
+        return cells, fractions
+
+    def _solve_flat(self, flat: np.ndarray) -> None:
+        """Solve the nodes of flat indices ``flat`` not yet solved, in one batch."""
+        todo = np.unique(flat)
+        todo = todo[~self._solved.reshape(-1)[todo]]
+        if todo.size == 0:
+            return
+        q, strategy = self._solve(self._nodes[todo])
+        index = np.unravel_index(todo, self._solved.shape)
+        self._q[index], self._strategy[index], self._solved[index] = q, strategy, True
 
 
 class FineLattice:
