@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import pytest
 from hypothesis import given
@@ -319,3 +320,41 @@ def test_returned_dicts_are_copies():
     spec.segment_masses().pop("trunk")
     assert spec.joint_limits_deg()["knee_flexion"] == (0.0, 135.0)
     assert "trunk" in spec.segment_masses()
+
+
+IMPAIRED_SHOULDER = (("right_shoulder_flexion", -60.0, 90.0),)
+
+
+def test_a_restriction_narrows_the_named_joint_and_no_other():
+    default, impaired = BodySpec().joint_limits_deg(), BodySpec(
+        restrictions=IMPAIRED_SHOULDER).joint_limits_deg()
+    assert impaired["right_shoulder_flexion"] == (-60.0, 90.0)
+    assert {k: v for k, v in impaired.items() if k != "right_shoulder_flexion"} == {
+        k: v for k, v in default.items() if k != "right_shoulder_flexion"}
+
+
+@pytest.mark.parametrize(("restrictions", "expected"), [
+    ((("right_shoulder_flex", -60.0, 90.0),), "'right_shoulder_flex' is not a joint"),
+    ((("right_shoulder_flexion", -60.0, 200.0),), "right_shoulder_flexion limit = 200.0 is "
+                                                   "outside the valid range -60-180 deg"),
+    ((("right_elbow_flexion", 90.0, 30.0),), "the lower is not below the upper"),
+    ((("knee_flexion", 0.0, 90.0), ("knee_flexion", 0.0, 80.0)), "restricted twice"),
+    ((("knee_flexion", 0.0),), "is not (joint, lower, upper)"),
+])
+def test_an_impossible_restriction_is_refused_in_one_line(restrictions, expected):
+    with pytest.raises(BodySpecError, match=re.escape(expected)) as raised:
+        BodySpec(restrictions=restrictions)
+    assert "\n" not in str(raised.value)
+
+
+def test_the_twin_never_flexes_a_restricted_shoulder_past_its_limit():
+    import numpy as np
+
+    from ergohandover.twin.evaluate import Evaluator, evaluate
+
+    overhead = np.array([[0.0, 1.95, 0.3]])  # the 50th-percentile man reaches it at ~113°
+    free, impaired = (evaluate(overhead, Evaluator(body=b), joints=True)
+                      for b in (BodySpec(), BodySpec(restrictions=IMPAIRED_SHOULDER)))
+    assert math.degrees(free["q_right_shoulder_flexion"][0]) > 100.0
+    assert math.degrees(impaired["q_right_shoulder_flexion"][0]) <= 90.0 + 1e-6
+    assert impaired["reba"][0] > free["reba"][0]  # the body makes up for it elsewhere

@@ -238,3 +238,56 @@ def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
     assert done.returncode == 0, done.stderr
     # The twin of the session is the first candidate and its angles fit it exactly.
     assert "fitted twin: the given worker" in done.stdout
+
+
+def test_an_angle_measured_worse_weighs_less_and_a_restricted_body_starts_less_likely():
+    from ergohandover.search import fitted_twin
+    from ergohandover.twin.joint_limits import impaired
+
+    worse = {a: (12.0 if a == "right_upper_arm_flexion" else 2.0) for a in FIELD_ANGLES}
+    twins = TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
+                        worker=(BODIES[1].stature_m, "male"), angle_sd_deg=worse)
+    assert twins.angle_sd_deg[FIELD_ANGLES.index("right_upper_arm_flexion")] == 12.0
+    assert twins.angle_sd_deg[FIELD_ANGLES.index("trunk_flexion")] == 2.0
+    cell = int(np.flatnonzero(landscape(2).feasible & landscape(1).feasible)[0])
+    # The same residual on the badly measured angle costs a body less than on a good one.
+    costs = []
+    for angle in ("right_upper_arm_flexion", "trunk_flexion"):
+        posterior = BodyPosterior(twins, PRIOR)
+        told = answer_at(1, cell)
+        told.posture[angle] += 10.0
+        before = posterior.log_weight.copy()
+        posterior.update(cell, told)
+        costs.append(float((before - posterior.log_weight)[1].min()))
+    assert costs[0] < costs[1]
+    # A candidate with a restricted joint starts with RESTRICTED_PRIOR of its unrestricted
+    # self's weight.
+    pair = [EVALUATORS[1], Evaluator(body=impaired(BODIES[1], "wrist cannot flex"))]
+    both = TwinLibrary(GRID, pair, lambda i: landscape_of(pair[i], GRID, progress=False),
+                       "paper_postural", ["free", "restricted"],
+                       worker=(BODIES[1].stature_m, "male"))
+    weights = BodyPosterior(both, PRIOR).candidate_weights()
+    assert weights[1] / weights[0] == pytest.approx(fitted_twin.RESTRICTED_PRIOR)
+
+
+def test_the_expected_score_is_the_posteriors_mean_of_the_hypotheses_scores():
+    twins = library(worker=1, sd=0.5)
+    posterior = BodyPosterior(twins, PRIOR)
+    cells = np.flatnonzero(landscape(1).feasible)[:4]
+    for cell in cells[:3]:
+        posterior.update(int(cell), answer_at(1, int(cell)))
+    weights = posterior.weights
+    for cell, expected in zip(cells, posterior.expected_scores(cells), strict=True):
+        sources, inside = posterior.sources(int(cell))
+        values = np.array([twins.values(k)[sources] for k in range(len(twins))])
+        feasible = np.isfinite(values) & inside[None, :]
+        share = np.where(feasible, weights, 0.0)
+        assert expected == pytest.approx((share * np.where(feasible, values, 0)).sum()
+                                         / share.sum())
+    # Told exactly, the posterior sits on the worker's own body: its scores are expected.
+    assert posterior.expected_scores(cells[:1])[0] == pytest.approx(values_at(1, cells[0]),
+                                                                     abs=0.05)
+
+
+def values_at(worker: int, cell: int) -> float:
+    return float(values(worker)[cell])

@@ -107,37 +107,45 @@ def test_a_bad_setting_of_the_part_is_one_line_and_exit_2(tmp_path):
 
 def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin():
     from ergohandover.study.config import StudyConfig
-    from ergohandover.study.personalise.measured_answers import answer_models
+    from ergohandover.study.personalise.measured_answers import answer_models, model_of
 
     part = StudyConfig.load(ROOT / "experiments" / "configs" / "default.json", ()).personalise
     runs, summary = read("measured_runs.csv"), read("measured_summary.csv")
-    labels = {a.label for a in answer_models(part.measured_sds, part.measured_iccs)}
-    assert len(labels) >= 6 and {"exact", "posture SD 10 deg", "rater ICC 0.51"} <= labels
+    models = answer_models(part.measured_sds, part.measured_iccs, part.measured_imu)
+    labels = {a.label for a in models}
+    assert len(labels) >= 7 and {"exact", "posture SD 10 deg", "rater ICC 0.51"} <= labels
+    assert any(a.kind == "imu" for a in models)
+    headline = f"posture SD {part.headline_sd:g} deg"
     rules = {s: (["model", "model, stopped"] if s == "fitted-twin" else ["model"]
                  if s.startswith("pairwise") else ["lowest", "confirm"])
              for s in part.measured_searchers}
-    keys = {(m, s, a, r, b) for m in ("in-model", "out-of-model") for s in part.measured_searchers
-            for a in labels for r in rules[s] for b in part.budgets_of(s, measured=True)}
-    keys |= {(m, "no search", a, "prior's location", 1) for m in ("in-model", "out-of-model")
-             for a in labels}
+    groups = {"in-model": labels, "out-of-model": labels, "impaired": {headline},
+              "steps or other proportions": {headline}}
+    keys = {(m, s, a, r, b) for m, answers in groups.items() for s in part.measured_searchers
+            for a in answers for r in rules[s] for b in part.budgets_of(s, measured=True)}
+    keys |= {(m, "no search", a, "prior's location", 1) for m, answers in groups.items()
+             for a in answers}
     assert set(zip(summary["model"], summary["searcher"], summary["answers"], summary["rule"],
                    summary["budget"], strict=True)) == keys
     inside = summary["model"] == "in-model"
     assert (summary.loc[inside, "n_workers"] == part.workers).all()
     outside = part.measured_variant_workers * len(part.measured_variants)
-    assert (summary.loc[~inside, "n_workers"] == outside).all() and outside >= 15
+    assert (summary.loc[summary["model"] == "out-of-model", "n_workers"] == outside).all()
+    assert outside >= 15
+    impaired = summary["model"] == "impaired"
+    assert (summary.loc[impaired, "n_workers"] == 3 * part.measured_unknown_workers).all()
+    assert part.measured_unknown_workers >= 5
     searched = summary["searcher"] != "no search"
-    headline = summary["answers"] == f"posture SD {part.headline_sd:g} deg"
-    runs_each = np.where(headline, part.headline_runs, part.measured_runs)
+    runs_each = np.where(summary["answers"] == headline, part.headline_runs, part.measured_runs)
     assert part.headline_runs == 5
     assert (summary.loc[searched, "n_runs"] == (runs_each * summary["n_workers"])[searched]).all()
-    assert set(runs["twin"]) == {"in-model", *part.measured_variants}
+    assert set(runs["twin"]) == {"in-model", *part.measured_variants, *part.measured_unknown}
     assert (runs["regret"] >= 0).all() and (runs["handovers"] <= runs["budget"]).all()
     # Exact answers are the truth; a true score is the worker's (or changed twin's) own.
     exact = runs[(runs["answers"] == "exact") & (runs["rule"] == "lowest")]
     assert (exact["answer"] == exact["true_score"]).all()
     assert (runs.groupby(["worker", "twin"])["optimum_score"].nunique() == 1).all()
-    runs = runs.assign(model=np.where(runs["twin"] == "in-model", "in-model", "out-of-model"))
+    runs = runs.assign(model=runs["twin"].map(model_of))
     shares = runs.assign(zero=runs["regret"] == 0).groupby(
         ["model", "searcher", "answers", "rule", "budget"], sort=False)["zero"].mean()
     for row in summary[searched].itertuples():

@@ -11,7 +11,8 @@ or lower. A hypothesis says, for every cell, what the worker's angles and score 
 candidate's at the displaced cell) and where the worker's optimum lies (the candidate's, moved).
 
 - **Prior** over hypotheses: candidates of the worker's sex, weighted by how close their stature
-  is (:data:`STATURE_BANDWIDTH_M`); displacements centred where the population prior's slope
+  is (:data:`STATURE_BANDWIDTH_M`) and less if a joint of theirs is restricted
+  (:data:`RESTRICTED_PRIOR`); displacements centred where the population prior's slope
   moves an optimum for the stature difference (:attr:`~.prior.Prior.per_metre`), spread
   :data:`SHIFT_SD_M`.
 - **Likelihood** of each handover: every angle the answer measured that a landscape holds
@@ -31,7 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -65,6 +66,10 @@ FEASIBILITY_MISS = math.log(1e-3)
 """The log-probability a hypothesis is charged for a handover whose feasibility it got wrong
 (the worker took the box where the candidate could not, or the reverse): the reach boundary
 differs between bodies by about a cell, so it excludes a hypothesis without ending it."""
+RESTRICTED_PRIOR = 0.1
+"""A candidate with a restricted joint (an impaired body) starts with this share of the prior
+weight of an unrestricted one of its stature: most workers move every joint through its full
+range (an assumption, not a prevalence); the angles a restriction changes move it from there."""
 PRUNE = 1e-9
 """Hypotheses lighter than this share of the heaviest are left out of the optimum's
 probability."""
@@ -94,18 +99,23 @@ class TwinLibrary:
             one grid).
         worker: the worker's stature [m] and sex (a site knows them), or None: the first
             candidate's.
-        angle_sd_deg: the SD of the instrument that measures the answers' angles [deg].
+        angle_sd_deg: the SD of the instrument that measures the answers' angles [deg]: one
+            for every angle, or each angle's by name (an angle not named: the largest given).
     """
 
     def __init__(self, grid: Grid, evaluators: Sequence[Evaluator],
                  landscape: Callable[[int], Landscape], objective: str,
                  names: Sequence[str] | None = None, cache: dict | None = None,
-                 worker: tuple[float, str] | None = None, angle_sd_deg: float = 5.0):
+                 worker: tuple[float, str] | None = None,
+                 angle_sd_deg: float | Mapping[str, float] = 5.0):
         if not evaluators:
             raise ConfigError("a twin library needs at least one candidate")
-        if not (math.isfinite(angle_sd_deg) and angle_sd_deg >= 0):
-            raise ConfigError(f"angle_sd_deg = {angle_sd_deg!r} is outside the valid range "
-                              "(>= 0)")
+        given = dict(angle_sd_deg) if isinstance(angle_sd_deg, Mapping) else {
+            a: angle_sd_deg for a in FIELD_ANGLES}
+        for name, sd in given.items():
+            if not (math.isfinite(sd) and sd >= 0):
+                raise ConfigError(f"angle_sd_deg = {sd!r} ({name}) is outside the valid range "
+                                  "(>= 0)")
         self.grid, self.evaluators, self._landscape = grid, list(evaluators), landscape
         self.objective = objective
         self.names = list(names) if names is not None else [str(i) for i in
@@ -113,7 +123,9 @@ class TwinLibrary:
         self._kept: dict[tuple[str, str], np.ndarray] = {} if cache is None else cache
         first = self.evaluators[0].body
         self.worker = worker or (first.stature_m, first.sex)
-        self.angle_sd_deg = float(angle_sd_deg)
+        widest = max(given.values(), default=0.0)
+        self.angle_sd_deg = np.array([float(given.get(a, widest)) for a in FIELD_ANGLES])
+        """(:data:`FIELD_ANGLES`,) the instrument's SD of each angle [deg]."""
 
     def __len__(self) -> int:
         return len(self.evaluators)
@@ -186,9 +198,11 @@ class BodyPosterior:
         axes = list(SHIFT_AXES)
         self.log_weight = (-0.5 * (difference / STATURE_BANDWIDTH_M) ** 2)[:, None] \
             - 0.5 * ((offset[:, :, axes] / SHIFT_SD_M) ** 2).sum(axis=2)
+        restricted = np.array([bool(b.restrictions) for b in bodies])
+        self.log_weight[restricted] += math.log(RESTRICTED_PRIOR)
         self.log_weight[~same] = -np.inf
         self._p_optimal: np.ndarray | None = None
-        self.angle_sd2 = library.angle_sd_deg ** 2 + BODY_SD_DEG ** 2
+        self.angle_sd2 = library.angle_sd_deg ** 2 + BODY_SD_DEG ** 2  # (angles,)
 
     @property
     def weights(self) -> np.ndarray:
@@ -225,7 +239,7 @@ class BodyPosterior:
             predicted = self.library.angles(sources, alive)  # (alive, D, angles)
             feasible = ~np.isnan(predicted).all(axis=2) & inside[None, :]
             residual = np.where(seen, predicted - np.where(seen, measured, 0.0), 0.0)
-            fit = -0.5 * (np.nan_to_num(residual, nan=0.0) ** 2).sum(axis=2) / self.angle_sd2
+            fit = -0.5 * (np.nan_to_num(residual, nan=0.0) ** 2 / self.angle_sd2).sum(axis=2)
             step[alive] = np.where(feasible, fit, FEASIBILITY_MISS)
         else:
             values = np.array([self.library.values(int(k))[sources] for k in alive])
@@ -237,6 +251,21 @@ class BodyPosterior:
                 step[alive] = np.where(feasible, FEASIBILITY_MISS, 0.0)
         self.log_weight = np.where(live, self.log_weight + step, -np.inf)
         self._p_optimal = None
+
+    def expected_scores(self, cells: Sequence[int]) -> np.ndarray:
+        """(len(cells),) the worker's expected objective at each cell under the posterior, of
+        the hypotheses that can take the box there (``inf``: none can)."""
+        weights = self.weights
+        live = np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max())
+        found = []
+        for cell in cells:
+            sources, inside = self.sources(int(cell))
+            values = np.array([self.library.values(int(k))[sources] for k in live])
+            feasible = np.isfinite(values) & inside[None, :]
+            share = np.where(feasible, weights[live], 0.0)
+            found.append(float((share * np.where(feasible, values, 0.0)).sum() / share.sum())
+                         if share.sum() > 0 else math.inf)
+        return np.array(found)
 
     def p_optimal(self) -> np.ndarray:
         """(grid.size,) each cell's posterior probability of being the worker's optimum: the
@@ -314,18 +343,22 @@ class FittedTwinSearcher(NewCellSearcher):
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
                    progress: bool = True, angle_sd_deg: float = 5.0) -> TwinLibrary:
     """A worker's candidate twins for ``ergohandover personalise``: the twin the session was
-    given, and the :data:`CANDIDATES` bodies nearest its stature among :data:`SURVEY_DRAWS`
-    drawn from the survey's body model for its sex (seeded), with its task and settings. A
-    candidate's landscape is swept (or read from the cache) when first needed."""
+    given, the same twin with each impairment (:data:`~..twin.joint_limits.IMPAIRMENTS`), and
+    the :data:`CANDIDATES` bodies nearest its stature among :data:`SURVEY_DRAWS` drawn from the
+    survey's body model for its sex (seeded), with its task and settings. A candidate's
+    landscape is swept (or read from the cache) when first needed."""
     from ..landscape.store import landscape_of
     from ..twin.anthropometry import BodySpec
+    from ..twin.joint_limits import IMPAIRMENTS, impaired
 
     body = evaluator.body
     drawn = BodySpec.sample(SURVEY_DRAWS, body.sex, np.random.default_rng([seed, SURVEY_DRAWS]))
     near = sorted(drawn, key=lambda b: abs(b.stature_m - body.stature_m))[:CANDIDATES]
-    evaluators = [evaluator, *(dataclasses.replace(evaluator, body=b) for b in near)]
-    names = ["the given worker", *(f"survey body {i + 1} ({b.stature_m:.3f} m)"
-                                   for i, b in enumerate(near))]
+    own = [] if body.restrictions else [impaired(body, name) for name in IMPAIRMENTS]
+    evaluators = [evaluator, *(dataclasses.replace(evaluator, body=b) for b in (*own, *near))]
+    names = ["the given worker", *(f"the given worker, {name}" for name in IMPAIRMENTS
+                                   if own),
+             *(f"survey body {i + 1} ({b.stature_m:.3f} m)" for i, b in enumerate(near))]
     return TwinLibrary(grid, evaluators, lambda i: landscape_of(evaluators[i], grid,
                                                               progress=progress),
                        objective, names, worker=(body.stature_m, body.sex),

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from .body_model import body_model, known_names, survey_rounding
+from .joint_limits import default_joint_limits_deg, restriction_problem
 from .proportions import (
     PROPORTIONS,
     disorder,
@@ -169,31 +170,6 @@ _MASS = {
 }
 PAIRED_SEGMENTS = frozenset({"foot", "shank", "thigh", "upper_arm", "forearm", "hand"})
 
-# Range of motion [deg] as (lower, upper), positive in the direction the name says. AAOS (1965)
-# unless noted. Trunk flexion is shared by the hip and lumbar joints, so the lumbar joint gets
-# the spine's own share (Kapandji: ~60 deg lumbar flexion), not the whole-trunk range.
-_AXIAL_LIMITS = {
-    "ankle_flexion": (-50.0, 20.0),  # plantarflexion 50, dorsiflexion 20
-    "knee_flexion": (0.0, 135.0),
-    "hip_flexion": (-30.0, 120.0),
-    "lumbar_flexion": (-25.0, 60.0),  # extension 25 (AAOS thoracolumbar), flexion: Kapandji
-    "lumbar_side_bend": (-35.0, 35.0),
-    "lumbar_twist": (-45.0, 45.0),
-    "neck_flexion": (-45.0, 45.0),
-    "neck_side_bend": (-45.0, 45.0),
-    "neck_twist": (-60.0, 60.0),
-}
-_ARM_LIMITS = {
-    "clavicle_elevation": (-10.0, 35.0),  # estimate: shoulder-girdle shrug at the SC joint
-    "shoulder_flexion": (-60.0, 180.0),
-    "shoulder_abduction": (-30.0, 180.0),  # adduction across the body: Kapandji 30-45
-    "shoulder_rotation": (-90.0, 70.0),  # external 90, internal 70
-    "elbow_flexion": (0.0, 150.0),
-    "forearm_pronation": (-80.0, 80.0),  # supination 80, pronation 80
-    "wrist_flexion": (-70.0, 80.0),  # extension 70, flexion 80
-    "wrist_deviation": (-20.0, 30.0),  # radial 20, ulnar 30
-}
-
 # Extensor strength of the joints that hold a load in front of the body, for the solver's effort
 # task. Hip and knee: peak isometric moment as a fraction of body weight x stature, young adults
 # (Anderson, Madigan & Nussbaum 2007, J Biomech 40:3105-3113, Table 3; read as coded in rbdl's
@@ -244,6 +220,10 @@ class BodySpec:
             landmark not given is the body model's mean given the ones that are.
         proportions: "ansur2" (landmarks from the survey's body model) or "drillis-contini"
             (the fixed-ratio twin: every length a fixed fraction of stature; no measurements).
+        restrictions: joints whose range is narrower than the default (an impaired worker:
+            a shoulder that cannot flex past 90°, an elbow that lacks 30° of extension), as
+            sorted ``(joint, lower, upper)`` [deg], each joint as :meth:`joint_limits_deg`
+            names it and each range within its default.
     """
 
     stature_m: float = PERCENTILES["p50-male"][0]
@@ -251,6 +231,7 @@ class BodySpec:
     sex: str = "male"
     measurements: tuple[tuple[str, float], ...] = ()
     proportions: str = "ansur2"
+    restrictions: tuple[tuple[str, float, float], ...] = ()
 
     def __post_init__(self) -> None:
         """Validate the fields so that an impossible body fails here, not deep in a simulation."""
@@ -267,6 +248,9 @@ class BodySpec:
             raise BodySpecError(f"proportions = {self.proportions!r} takes no measurements "
                                 "(its lengths are fractions of stature); use ansur2")
         check_measurements(dict(self.measurements), self.sex)
+        problem = restriction_problem(self.restrictions)
+        if problem:
+            raise BodySpecError(problem)
         marks = landmarks_of(self)
         for name, value in self.measurements:
             if abs(marks[name] - value) > 0.001:  # redundant measurements that disagree
@@ -403,9 +387,8 @@ class BodySpec:
         Arm joints appear twice, with ``left_`` and ``right_`` prefixes and identical values:
         the signed conventions mirror between sides, so the numbers do not.
         """
-        limits = dict(_AXIAL_LIMITS)
-        for side in ("left", "right"):
-            limits.update({f"{side}_{n}": lim for n, lim in _ARM_LIMITS.items()})
+        limits = default_joint_limits_deg()
+        limits.update({name: (lo, hi) for name, lo, hi in self.restrictions})
         return limits
 
 

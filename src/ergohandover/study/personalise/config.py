@@ -12,6 +12,7 @@ from ...twin.anthropometry import BodySpec
 from ...twin.evaluate import Evaluator
 from ...twin.task import TaskSpec
 from ..typed_json import setting
+from .unknown_workers import UNKNOWN_WORKERS
 
 MEASURED_VARIANTS = ("gaze off", "effort free share 7.9% (sustained holds)",
                      "ankle+knee+hip x0.5")
@@ -61,6 +62,9 @@ class PersonaliseConfig:
         choices=SEARCHERS)
     measured_sds: tuple[float, ...] = setting((0.0, 2.0, 5.0, 10.0), lo=0, unit="deg")
     measured_iccs: tuple[float, ...] = setting((0.89, 0.51), lo=0, hi=1)
+    # An IMU suit's error (the robustness part's measured error model, Schall et al. 2016),
+    # its SDs times each factor.
+    measured_imu: tuple[float, ...] = setting((1.0,), lo=0)
     measured_budgets: tuple[int, ...] = setting((5, 10, 25), lo=2)
     # Runs per worker: `headline_runs` under the headline's answers (postures measured with
     # `headline_sd` of error), `measured_runs` under the others (configs/personalise_full.json:
@@ -70,6 +74,11 @@ class PersonaliseConfig:
     headline_runs: int = setting(5, lo=0)
     measured_variants: tuple[str, ...] = setting(MEASURED_VARIANTS)
     measured_variant_workers: int = setting(5, lo=0)
+    # Workers the prior does not know (unknown_workers.py): the first `measured_unknown_workers`
+    # workers changed into each kind, answered as the headline's answers only.
+    measured_unknown: tuple[str, ...] = setting(tuple(UNKNOWN_WORKERS),
+                                                 choices=tuple(UNKNOWN_WORKERS))
+    measured_unknown_workers: int = setting(5, lo=0)
     # The stopping rule's level: stop once the searcher's model gives its recommendation this
     # probability of being the worker's optimum (the target share of workers handed over at
     # their optimum: a calibrated model stopped here meets it).
@@ -97,9 +106,12 @@ class PersonaliseConfig:
                                   "these runs stop at the worker's optimum score (use it in "
                                   "measured_searchers)")
 
-    def runs_of(self, answers) -> int:
-        """Runs per worker under an answer model (:class:`.measured_answers.Answers`)."""
+    def runs_of(self, answers, twin: str | None = None) -> int:
+        """Runs per worker under an answer model (:class:`.measured_answers.Answers`); a worker
+        the prior does not know (``twin``: its kind) runs under the headline's only."""
         headline = answers.kind == "posture" and answers.level == self.headline_sd
+        if twin in UNKNOWN_WORKERS:
+            return self.headline_runs if headline else 0
         return self.headline_runs if headline else self.measured_runs
 
     def budgets_of(self, searcher: str, measured: bool = False) -> list[int]:

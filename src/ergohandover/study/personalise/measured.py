@@ -34,6 +34,7 @@ from ...ergonomics import Posture, score_postures
 from ...ergonomics.posture import POSTURE_COLUMNS
 from ...errors import ConfigError
 from ...landscape.grid import Grid
+from ...robustness.measured_error import MeasuredError
 from ...robustness.posture_error import ErrorModel, angles_of, perturbed
 from ...twin.evaluate import Evaluator, evaluate_arrays
 
@@ -55,7 +56,8 @@ class MeasuredScores(ScoreSource):
             shared with other sources of the same worker (filled as cells are solved).
     """
 
-    def __init__(self, grid: Grid, evaluator: Evaluator, objective: str, model: ErrorModel,
+    def __init__(self, grid: Grid, evaluator: Evaluator, objective: str,
+                 model: ErrorModel | MeasuredError,
                  rng: np.random.Generator, block: int = 1,
                  postures: dict[int, dict[str, float] | None] | None = None):
         if objective not in MEASURED:

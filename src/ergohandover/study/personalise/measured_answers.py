@@ -24,7 +24,8 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
   fitted to twins like the one that answers), the same workers with a modelling choice of the
   sensitivity study changed (gaze, effort, joint preferences: *out-of-model*), whose optimum the
-  prior has never seen;
+  prior has never seen, and workers the prior does not know (:mod:`.unknown_workers`:
+  *impaired*, or who step, or of other proportions);
 - **the baseline**: handing over once at the prior's location and stopping (:func:`no_search`),
   what a site has without searching; every searcher's gain over it and harm (runs worse than
   it) are paired per worker.
@@ -39,7 +40,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -49,7 +50,8 @@ from ...envs.scores import ScoreSource
 from ...errors import ConfigError
 from ...landscape.grid import Grid
 from ...landscape.store import landscape_of
-from ...robustness.posture_error import ErrorModel
+from ...robustness.measured_error import MEASURED_ERROR, MeasuredError
+from ...robustness.posture_error import ANGLE_COLUMNS, ErrorModel
 from ...search import Budget, entry, make
 from ...search import run as run_search
 from ...search.fitted_twin import TwinLibrary
@@ -57,10 +59,11 @@ from ...search.prior import Prior
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
+from .unknown_workers import group_of
 
-KINDS = ("posture", "rater")
+KINDS = ("posture", "rater", "imu")
 RULES = ("model", "model, stopped", "lowest", "confirm")
-IN_MODEL = "in-model"
+IN_MODEL, OUT_OF_MODEL = "in-model", "out-of-model"
 BLOCK = 3
 """A worker's postures are solved in aligned cubes of this edge [cells] on a miss: searchers
 propose near where they proposed before, and the solver's cost is mostly per call."""
@@ -71,9 +74,12 @@ class Answers:
     """How a handover is answered.
 
     Attributes:
-        kind: ``posture`` (the posture measured with error, then scored) or ``rater`` (a
-            rater's score).
-        level: the posture error's SD [deg], or the rater's ICC (0, 1].
+        kind: ``posture`` (the posture measured with error, then scored), ``imu`` (measured
+            as an IMU suit measures it: the robustness part's
+            :data:`~...robustness.measured_error.MEASURED_ERROR`) or ``rater`` (a rater's
+            score).
+        level: the posture error's SD [deg], the factor on the IMU's SDs, or the rater's ICC
+            (0, 1].
     """
 
     kind: str
@@ -84,28 +90,50 @@ class Answers:
             raise ConfigError(f"answers = {self.kind!r} is not allowed (use {', '.join(KINDS)})")
         if self.kind == "rater" and not 0 < self.level <= 1:
             raise ConfigError(f"rater ICC = {self.level!r} is outside the valid range (0, 1]")
-        if self.kind == "posture" and not (math.isfinite(self.level) and self.level >= 0):
+        if self.kind in ("posture", "imu") and not (math.isfinite(self.level)
+                                                   and self.level >= 0):
             raise ConfigError(f"posture SD = {self.level!r} is outside the valid range (>= 0)")
 
     @property
     def label(self) -> str:
         if self.kind == "posture":
             return "exact" if self.level == 0 else f"posture SD {self.level:g} deg"
+        if self.kind == "imu":
+            return "IMU" + ("" if self.level == 1 else f" SDs x{self.level:g}")
         return f"rater ICC {self.level:g}"
+
+    @property
+    def error(self) -> ErrorModel | MeasuredError | None:
+        """The posture's measurement error (None: a rater's score)."""
+        if self.kind == "posture":
+            return ErrorModel(self.level)
+        return replace(MEASURED_ERROR, scale=self.level) if self.kind == "imu" else None
 
     def source(self, grid: Grid, evaluator: Evaluator, objective: str, values: np.ndarray,
                rng: np.random.Generator, postures: dict) -> ScoreSource:
         """The score source answering a run's handovers."""
-        if self.kind == "posture":
-            return MeasuredScores(grid, evaluator, objective, ErrorModel(self.level), rng,
-                                  block=BLOCK, postures=postures)
+        if self.error is not None:
+            return MeasuredScores(grid, evaluator, objective, self.error, rng, block=BLOCK,
+                                  postures=postures)
         return RatedScores(grid, values, rater_sd(values, self.level), rng, objective)
 
 
-def answer_models(sds: tuple[float, ...], iccs: tuple[float, ...]) -> list[Answers]:
-    """The study's answer models: posture errors of each SD, then raters of each ICC."""
-    return [Answers("posture", float(s)) for s in sds] + [Answers("rater", float(i))
-                                                          for i in iccs]
+def angle_sds(answers: Answers) -> dict[str, float]:
+    """Each angle's measurement SD under an answer model [deg] (0: a rater's score carries no
+    angles). The fitted twin weighs each angle alone by it: an IMU's bias and correlations are
+    left out of its likelihood."""
+    error = answers.error
+    if isinstance(error, MeasuredError):
+        return dict(zip(ANGLE_COLUMNS, map(float, error.sd()), strict=True))
+    return {c: 0.0 if error is None else error.sd_deg for c in ANGLE_COLUMNS}
+
+
+def answer_models(sds: tuple[float, ...], iccs: tuple[float, ...],
+                  imu: tuple[float, ...] = ()) -> list[Answers]:
+    """The study's answer models: posture errors of each SD, an IMU suit's (its SDs times
+    each factor), then raters of each ICC."""
+    return [*(Answers("posture", float(s)) for s in sds), *(Answers("imu", float(s)) for s in imu),
+            *(Answers("rater", float(i)) for i in iccs)]
 
 
 @dataclass(frozen=True)
@@ -146,6 +174,13 @@ _POSTURES: dict[str, dict] = {}
 _CANDIDATES: dict[tuple[str, str], np.ndarray] = {}
 """Candidate twins' scores and angles by (candidate, what), shared by every fitted twin here
 (filled by the parent before the pool forks: :func:`candidate_library`)."""
+
+
+def model_of(twin: str) -> str:
+    """The group a worker's twin is reported in: :data:`IN_MODEL`, ``out-of-model`` (a
+    sensitivity variant) or the group of a worker the prior does not know
+    (:mod:`.unknown_workers`)."""
+    return IN_MODEL if twin == IN_MODEL else group_of(twin) or OUT_OF_MODEL
 
 
 def truth_key(worker: str, twin: str) -> str:
@@ -225,8 +260,7 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
         body = job.evaluator.body
         twins = candidate_library(job.candidates, job.grid, job.objective,
                                   worker=(body.stature_m, body.sex),
-                                  angle_sd_deg=job.answers.level
-                                  if job.answers.kind == "posture" else 0.0)
+                                  angle_sd_deg=angle_sds(job.answers))
     rows = []
     largest = max(job.budgets)
     model = entry(job.searcher).model
@@ -286,7 +320,7 @@ def mean_interval(per_unit: np.ndarray, rng: np.random.Generator) -> tuple[float
 
 
 def measured_summary(runs: pd.DataFrame, baseline: pd.Series, seed: int) -> pd.DataFrame:
-    """Per model (in- or out-of-model), searcher, answers, rule and budget: workers, runs, the
+    """Per model (:func:`model_of`), searcher, answers, rule and budget: workers, runs, the
     share of runs whose recommendation is a true optimum (interval: bootstrap over workers, at
     least Wilson's), the mean true regret, the **gain over no search** (``baseline``: each
     worker's regret at the prior's location, :func:`no_search`; paired per worker, interval:
@@ -294,7 +328,7 @@ def measured_summary(runs: pd.DataFrame, baseline: pd.Series, seed: int) -> pd.D
     handovers used and the model's mean stated probability. Out of model, a worker is a worker
     with one changed twin; the "no search" rows are the baseline itself."""
     rng = np.random.default_rng(seed)
-    runs = runs.assign(model=np.where(runs["twin"] == IN_MODEL, IN_MODEL, "out-of-model"),
+    runs = runs.assign(model=runs["twin"].map(model_of),
                        unit=runs["worker"] + "|" + runs["twin"])
     runs["baseline"] = runs["unit"].map(baseline)
     keys = ["model", "searcher", "answers", "rule", "budget"]

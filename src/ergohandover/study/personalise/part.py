@@ -73,6 +73,7 @@ from .sessions import (
     summary,
     values_for,
 )
+from .unknown_workers import impaired_candidates, own_candidate, unknown_twin
 
 
 def worker_table(workers: pd.DataFrame, found: list[Landscape], priors: dict,
@@ -160,11 +161,15 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     """The runs with answers as a site gets them, in and out of model, and their summary (none
     if the configuration asks for none). ``everyone``: (name, evaluator) of the population's
     sampled workers, the candidates of a fitted twin (each worker's are the others)."""
-    models = answer_models(part.measured_sds, part.measured_iccs)
+    models = answer_models(part.measured_sds, part.measured_iccs, part.measured_imu)
     if not (models and part.measured_searchers) or not any(part.runs_of(a) for a in models):
         return {}
     twins = [(w, IN_MODEL, e) for w, e in zip(chosen["worker"], evaluators, strict=True)]
     twins += out_of_model(part, chosen, evaluators, grid, engine)
+    twins += unknown(part, chosen, evaluators, grid, engine)
+    # A fitted twin's candidates: the population's other workers and the other workers'
+    # impaired twins (so that a restriction can be found from the angles).
+    everyone = [*everyone, *impaired_candidates(twins)]
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
     if any(SEARCHERS[s].twins for s in part.measured_searchers):
@@ -173,11 +178,11 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
         candidate_library(everyone, grid, part.objective).prepare()
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
-                        run_seeds(part.seed, w, part.runs_of(answers)), priors[w],
-                        tuple(c for c in everyone if c[0] != w) if SEARCHERS[s].twins else (),
-                        part.stop_level)
-            for s in searchers for answers in models if part.runs_of(answers)
-            for w, twin, e in twins]
+                        run_seeds(part.seed, w, part.runs_of(answers, twin)), priors[w],
+                        tuple(c for c in everyone if not own_candidate(c[0], w))
+                        if SEARCHERS[s].twins else (), part.stop_level)
+            for s in searchers for answers in models for w, twin, e in twins
+            if part.runs_of(answers, twin)]
     baseline = pd.Series({f"{w}|{twin}": no_search(values_for(truth_key(w, twin), e, grid,
                                                               part.objective), grid, priors[w])
                           for w, twin, e in twins})
@@ -214,6 +219,23 @@ def out_of_model(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
         for (w, name, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
                                            strict=True):
             prepare_values(truth_key(w, name), part.objective, landscape)
+    return twins
+
+
+def unknown(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
+            engine: Engine) -> list[tuple[str, str, Evaluator]]:
+    """The first workers changed into each kind the prior does not know (impaired, stepping,
+    of other proportions), their landscapes swept (or read from the cache) and their scores
+    kept for the pool's workers."""
+    twins = [(w, kind, unknown_twin(kind, e)) for kind in part.measured_unknown
+             for w, e in zip(chosen["worker"][:part.measured_unknown_workers], evaluators,
+                             strict=False)]
+    if twins:
+        print(f"  workers the prior does not know: {len(twins)} twins "
+              f"({', '.join(part.measured_unknown)})")
+        for (w, kind, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
+                                           strict=True):
+            prepare_values(truth_key(w, kind), part.objective, landscape)
     return twins
 
 
