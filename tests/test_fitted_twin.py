@@ -220,15 +220,6 @@ def test_the_command_fits_a_twin_to_captured_frames_and_resumes_it(tmp_path):
         [ln for ln in whole.stdout.splitlines() if ln.startswith("fitted twin: ")]
 
 
-def test_the_command_refuses_the_fitted_twin_without_postures_in_the_answers():
-    from cli_run import run_cli
-
-    done = run_cli("personalise", "--oracle", "ask", "--searcher", "fitted-twin", "--stature",
-                   "1.7", "--sex", "female", *SMALL)
-    assert done.returncode == 2 and done.stderr.count("\n") == 1
-    assert "--searcher fitted-twin needs the worker's posture in every answer" in done.stderr
-
-
 @pytest.mark.slow
 def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
     from cli_run import run_cli

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 from common import caption, read, save
+from personalise_tables import HEADLINE_ANSWERS
 
 from ergohandover.search.registry import SEARCHERS
 
@@ -181,35 +182,44 @@ def measured_figure() -> None:
     summary = summary[own]
     answers = list(dict.fromkeys(summary["answers"]))
     models = ["in-model", "out-of-model"]
+    # Workers the prior does not know run under the headline's answers only: one row of them.
+    unknown = [m for m in dict.fromkeys(summary["model"]) if m not in models]
     searchers = list(dict.fromkeys(summary["searcher"]))
-    fig, axes = plt.subplots(2, len(answers), figsize=(3 * len(answers), 6.4), sharex=True,
-                             sharey=True, squeeze=False)
+    rows = len(models) + bool(unknown)
+    fig, axes = plt.subplots(rows, len(answers), figsize=(3 * len(answers), 3.2 * rows),
+                             sharex=True, sharey=True, squeeze=False)
+    panels = [(r, c, model, said) for r, model in enumerate(models)
+              for c, said in enumerate(answers)]
+    panels += [(len(models), c, model, HEADLINE_ANSWERS) for c, model in enumerate(unknown)]
     colours = plt.get_cmap("tab10")
-    for row, model in enumerate(models):
-        for col, said in enumerate(answers):
-            ax = axes[row][col]
-            ax.axhline(0, color="black", lw=1.2, label="no search (one handover at the "
-                                                       "prior's location)")
-            for i, name in enumerate(searchers):
-                line = summary[(summary["model"] == model) & (summary["answers"] == said)
-                               & (summary["searcher"] == name)]
-                # Each searcher's points a little apart, so that the intervals do not hide
-                # one another (the budgets are on a log axis).
-                x = line["budget"] * 1.04 ** (i - (len(searchers) - 1) / 2)
-                y = line["gain"]
-                ax.errorbar(x, y, yerr=[y - line["gain_ci_low"], line["gain_ci_high"] - y],
-                            marker="o", markersize=3, linewidth=1, elinewidth=0.6, capsize=0,
-                            color=colours(i), label=SEARCHERS[name].label)
-            nothing = baseline[(baseline["model"] == model) & (baseline["answers"] == said)]
-            ax.set_xscale("log")
-            ax.set_xticks(sorted(summary["budget"].unique()))
-            ax.xaxis.set_major_formatter("{x:g}")
-            ax.xaxis.set_minor_locator(plt.NullLocator())
-            ax.set_title(f"{said}, {model}\n(no search: optimum in "
-                         f"{nothing['p_regret_0'].iloc[0]:.0%}, regret "
-                         f"{nothing['mean_regret'].iloc[0]:.2f})", fontsize=8)
-            if row == 1:
-                ax.set_xlabel("handovers")
+    for row, col, model, said in panels:
+        ax = axes[row][col]
+        ax.axhline(0, color="black", lw=1.2, label="no search (one handover at the "
+                                                   "prior's location)")
+        for i, name in enumerate(searchers):
+            line = summary[(summary["model"] == model) & (summary["answers"] == said)
+                           & (summary["searcher"] == name)]
+            # Each searcher's points a little apart, so that the intervals do not hide one
+            # another (the budgets are on a log axis).
+            x = line["budget"] * 1.04 ** (i - (len(searchers) - 1) / 2)
+            y = line["gain"]
+            ax.errorbar(x, y, yerr=[y - line["gain_ci_low"], line["gain_ci_high"] - y],
+                        marker="o", markersize=3, linewidth=1, elinewidth=0.6, capsize=0,
+                        color=colours(i), label=SEARCHERS[name].label)
+        nothing = baseline[(baseline["model"] == model) & (baseline["answers"] == said)]
+        ax.set_xscale("log")
+        ax.set_xticks(sorted(summary["budget"].unique()))
+        ax.xaxis.set_major_formatter("{x:g}")
+        ax.xaxis.set_minor_locator(plt.NullLocator())
+        ax.set_title(f"{said}, {model}\n(no search: optimum in "
+                     f"{nothing['p_regret_0'].iloc[0]:.0%}, regret "
+                     f"{nothing['mean_regret'].iloc[0]:.2f})", fontsize=8)
+        ax.tick_params(labelbottom=True)
+        if row == rows - 1 or (row == rows - 2 and col >= len(unknown)):
+            ax.set_xlabel("handovers")
+    for col in range(len(unknown) if unknown else len(answers), len(answers)):
+        axes[rows - 1][col].axis("off")
+    for row in range(rows):
         axes[row][0].set_ylabel("gain over no search [points]")
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
@@ -217,9 +227,10 @@ def measured_figure() -> None:
     each = (summary["n_runs"] // summary["n_workers"]).groupby(summary["answers"]).max()
     runs = ", ".join(f"{n} under {a}" for a, n in each.items() if n != each.min())
     runs = f"{runs}, {each.min()} under the others" if runs else f"{each.min()} each"
+    others = "".join(f", {sizes[m]} {m}" for m in unknown)
     fig.suptitle(f"Personalising with answers as a site gets them: N = {sizes['in-model']} "
-                 f"workers in model, {sizes['out-of-model']} out of model; runs per worker: "
-                 f"{runs}; above 0, better than not searching", fontsize=10)
+                 f"workers in model, {sizes['out-of-model']} out of model{others}; runs per "
+                 f"worker: {runs}; above 0, better than not searching", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 1))  # room for the legend below the panels
     save(fig, "personalise_measured.png")
 
