@@ -220,15 +220,6 @@ def test_the_command_fits_a_twin_to_captured_frames_and_resumes_it(tmp_path):
         [ln for ln in whole.stdout.splitlines() if ln.startswith("fitted twin: ")]
 
 
-def test_the_command_refuses_the_fitted_twin_without_postures_in_the_answers():
-    from cli_run import run_cli
-
-    done = run_cli("personalise", "--oracle", "ask", "--searcher", "fitted-twin", "--stature",
-                   "1.7", "--sex", "female", *SMALL)
-    assert done.returncode == 2 and done.stderr.count("\n") == 1
-    assert "--searcher fitted-twin needs the worker's posture in every answer" in done.stderr
-
-
 @pytest.mark.slow
 def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
     from cli_run import run_cli
@@ -238,3 +229,26 @@ def test_the_twin_answers_a_fitted_twin_session_with_its_own_angles(tmp_path):
     assert done.returncode == 0, done.stderr
     # The twin of the session is the first candidate and its angles fit it exactly.
     assert "fitted twin: the given worker" in done.stdout
+
+
+def test_the_expected_score_is_the_posteriors_mean_of_the_hypotheses_scores():
+    twins = library(worker=1, sd=0.5)
+    posterior = BodyPosterior(twins, PRIOR)
+    cells = np.flatnonzero(landscape(1).feasible)[:4]
+    for cell in cells[:3]:
+        posterior.update(int(cell), answer_at(1, int(cell)))
+    weights = posterior.weights
+    for cell, expected in zip(cells, posterior.expected_scores(cells), strict=True):
+        sources, inside = posterior.sources(int(cell))
+        values = np.array([twins.values(k)[sources] for k in range(len(twins))])
+        feasible = np.isfinite(values) & inside[None, :]
+        share = np.where(feasible, weights, 0.0)
+        assert expected == pytest.approx((share * np.where(feasible, values, 0)).sum()
+                                         / share.sum())
+    # Told exactly, the posterior sits on the worker's own body: its scores are expected.
+    assert posterior.expected_scores(cells[:1])[0] == pytest.approx(values_at(1, cells[0]),
+                                                                     abs=0.05)
+
+
+def values_at(worker: int, cell: int) -> float:
+    return float(values(worker)[cell])

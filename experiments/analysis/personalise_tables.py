@@ -54,17 +54,13 @@ def best_searcher(summary: pd.DataFrame) -> str:
 
 
 def command_default(measured: pd.DataFrame) -> str:
-    """``ergohandover personalise``'s default: of the ask/tell searchers told scores that work
-    with any answer (not the fitted twin, which needs postures), whose recommendation is the
-    lowest answer (the command's rule), the one whose recommendation is
-    most often a true optimum in model at the headline budget, on average over the answer models
-    (over all of them, not the one where it did best: a choice on more runs)."""
-    rows = measured[(measured["rule"] == "lowest") & (measured["model"] == "in-model")
-                    & (measured["budget"] == HEADLINE_BUDGET)
-                    & measured["searcher"].map(lambda s: s in SEARCHERS
-                                               and SEARCHERS[s].kind == "searcher"
-                                               and not SEARCHERS[s].twins)]
-    return str(rows.groupby("searcher")["p_regret_0"].mean().idxmax())
+    """``ergohandover personalise``'s default: of the ask/tell searchers told scores, the one
+    whose recommendation (by its own rule) is most often a true optimum in model with postures
+    measured with the headline's error, at the headline budget (then the lowest mean regret)."""
+    rows = own_rule(measured)
+    rows = rows[rows["searcher"].map(lambda s: s in SEARCHERS and SEARCHERS[s].kind == "searcher"
+                                     and SEARCHERS[s].answers == "scores")]
+    return str(best_measured(rows, "in-model", HEADLINE_ANSWERS, HEADLINE_BUDGET)["searcher"])
 
 
 def summary_table(summary: pd.DataFrame) -> list[str]:

@@ -238,6 +238,21 @@ class BodyPosterior:
         self.log_weight = np.where(live, self.log_weight + step, -np.inf)
         self._p_optimal = None
 
+    def expected_scores(self, cells: Sequence[int]) -> np.ndarray:
+        """(len(cells),) the worker's expected objective at each cell under the posterior, of
+        the hypotheses that can take the box there (``inf``: none can)."""
+        weights = self.weights
+        live = np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max())
+        found = []
+        for cell in cells:
+            sources, inside = self.sources(int(cell))
+            values = np.array([self.library.values(int(k))[sources] for k in live])
+            feasible = np.isfinite(values) & inside[None, :]
+            share = np.where(feasible, weights[live], 0.0)
+            found.append(float((share * np.where(feasible, values, 0.0)).sum() / share.sum())
+                         if share.sum() > 0 else math.inf)
+        return np.array(found)
+
     def p_optimal(self) -> np.ndarray:
         """(grid.size,) each cell's posterior probability of being the worker's optimum: the
         summed weight of the hypotheses whose optimum includes it (an optimum is a plateau of
