@@ -49,5 +49,27 @@ def test_the_reports_table_is_the_committed_results():
     finally:
         sys.path.pop(0)
     report = (ROOT / "docs" / "report.md").read_text()
-    assert readme_block(report, "shift-reference") == fig_shift.blocks(ROOT / "results")[
-        "shift-reference"]
+    for name, text in fig_shift.blocks(ROOT / "results").items():
+        assert readme_block(report, name) == text, name
+
+
+def test_the_shift_locations_compare_the_posture_optimum_with_the_shifts_best():
+    table = pd.read_csv(SHIFT / "locations.csv")
+    part = StudyConfig().shift
+    pairs = {(r, h) for r in part.rates_per_min for h in part.holds_s if h < 60 / r}
+    assert set(zip(table["rate_per_min"], table["hold_s"], strict=True)) == pairs
+    kept = table["shift_capacity_end"].fillna(-1.0)
+    for _, rows in table.groupby(["rate_per_min", "hold_s"]):
+        found = rows.set_index("location")
+        optimum = found.loc["posture-optimal"]
+        same = found.loc["best for the shift at the optimal score"]
+        alone = found.loc["best for the shift alone"]
+        assert same["paper_postural"] == optimum["paper_postural"]
+        assert alone["paper_postural"] >= optimum["paper_postural"]
+        lasts = kept.loc[rows.index].set_index(rows["location"])
+        assert lasts["best for the shift alone"] >= lasts[
+            "best for the shift at the optimal score"] >= lasts["posture-optimal"]
+    # At one location the shift takes more the faster the handovers come.
+    optimum = table[(table["location"] == "posture-optimal") & (table["hold_s"] == 3.0)]
+    assert (np.diff(optimum.sort_values("rate_per_min")["shift_capacity_end"].fillna(-1)) <= 0
+            ).all()
