@@ -74,7 +74,8 @@ def test_the_run_order_puts_every_part_after_what_it_needs_directly_or_not():
 def test_a_parts_hashed_inputs_are_its_section_and_everything_it_needs():
     config = StudyConfig()
     for name in PARTS:
-        inputs = set(config.part_inputs(name)) - {"capture_code", "measured_data"}
+        inputs = set(config.part_inputs(name)) - {"capture_code", "measured_data",
+                                                   "fatigue_code"}
         assert inputs == {name, "landscape", *needed(name)}
 
 

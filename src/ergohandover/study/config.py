@@ -36,6 +36,7 @@ from .population.config import PopulationConfig
 from .registry import needed
 from .robustness.config import RobustnessConfig
 from .sensitivity.config import SensitivityConfig
+from .shift.config import ShiftConfig, fatigue_code_version
 from .stance.config import StanceConfig
 from .typed_json import from_json, setting, short
 from .validation.config import ValidationConfig
@@ -60,6 +61,7 @@ class StudyConfig:
     people: PeopleConfig = setting(PeopleConfig())
     manikins: ManikinsConfig = setting(ManikinsConfig())
     accommodation: AccommodationConfig = setting(AccommodationConfig())
+    shift: ShiftConfig = setting(ShiftConfig())
 
     def __post_init__(self):
         learning = self.learning
@@ -118,13 +120,15 @@ class StudyConfig:
         """What a part's results depend on (hashed into its manifest): its own section and, for
         every part after it, the landscape's (they all read the landscape) and those of the
         questions it needs, directly or through another (:func:`.registry.needed`); for the
-        capture part also the capture layer's code, for the people part the measured
-        handovers' derived figures."""
+        capture part also the capture layer's code, for the shift part the fatigue models',
+        for the people part the measured handovers' derived figures."""
         sections = (part,) if part == "landscape" else (
             part, *dict.fromkeys(("landscape", *needed(part))))
         inputs = {name: dataclasses.asdict(getattr(self, name)) for name in sections}
         if part == "capture":  # its results are the capture layer's arithmetic
             inputs["capture_code"] = capture_code_version()
+        if part == "shift":  # its results are the fatigue models' arithmetic
+            inputs["fatigue_code"] = fatigue_code_version()
         if part == "people":  # its results are the derived figures' comparison with the twin
             inputs["measured_data"] = measured_data_version()
         return inputs

@@ -97,6 +97,8 @@ QUESTIONS = (
     Question("accommodation", ("robustness",), {
         "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600, True,
         "fig_accommodation"),
+    Question("shift", ("population",), {"reference.csv": (), "curves.csv": (),
+                                         "locations.csv": ()}, 120, False, "fig_shift"),
 )
 """Every question, in the order ``run_all`` runs them all (each after what it needs)."""
 

@@ -89,6 +89,20 @@ def _forward(angle_deg: np.ndarray) -> np.ndarray:
     return np.sin(np.radians(angle_deg))
 
 
+def grip_reach_m(p: Posture, levers: Levers) -> np.ndarray:
+    """How far forward of L5/S1 the hands hold the load [m], the two grips' mean: the
+    horizontal lever of the load in the same sagittal chain as :func:`back_load`."""
+    theta = p["trunk_flexion"]
+    shoulder_x = (levers.trunk[0] - levers.shoulder_drop) * _forward(theta)
+    reach = []
+    for side in SIDES:
+        upper = p.arm(side, "upper_arm_flexion") - theta
+        fore = upper + p.arm(side, "elbow_flexion")
+        reach.append(shoulder_x + levers.upper_arm[0] * _forward(upper)
+                     + (levers.forearm[0] + levers.grip_offset) * _forward(fore))
+    return (reach[0] + reach[1]) / 2.0
+
+
 def back_load(p: Posture, levers: Levers) -> dict[str, np.ndarray]:
     """Every column of :data:`COLUMNS` for N postures (float arrays; ``back_band`` int8)."""
     trunk_len, trunk_kg, trunk_com = levers.trunk
