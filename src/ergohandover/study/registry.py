@@ -56,12 +56,12 @@ QUESTIONS = (
                       "argmin_z"),
         "summary.csv": (), "comparisons.csv": (), "runs.csv": (), "curves.csv": (),
         "full_runs.csv": (), "power.csv": (), "targets.csv": (), "traces.csv": ()},
-        200, True, "fig_learning"),
+        480, True, "fig_learning"),
     Question("baselines", ("landscape", "learning"), {
         "baselines.csv": ("start_x", "start_y", "start_z", "method", *XYZ), "baselines.md": (),
         "other_starts.csv": (),
         "reachability.csv": (), "reachability_summary.csv": (), "paths/": (), "renders/": (),
-        "recordings/": ()}, 130, True, "fig_baselines"),
+        "recordings/": ()}, 250, True, "fig_baselines"),
     Question("ablations", ("landscape",), {"ik.csv": ()}, 40),
     Question("participants", ("landscape",), {
         "participants.csv": ("worker", "location", "start", *XYZ)}, 50, True,
@@ -80,12 +80,12 @@ QUESTIONS = (
             "comparisons", "expected_landscape", "flips", "margins", "measured_comparisons",
             "measured_error", "measured_flips", "measured_locations", "one_size",
             "penalty_regression", "personal", "placement", "practice_carries", "regret",
-            "regret_summary")}}, 240, True, "fig_robustness"),
+            "regret_summary")}}, 330, True, "fig_robustness"),
     Question("stance", ("baselines", "participants"), {
         "headline.csv": (), "locations.csv": (), "posture_error.csv": ()}, 20, True),
     Question("personalise", ("population",), {
         "runs.csv": (), "summary.csv": (), "curves.csv": (), "workers.csv": (),
-        "measured_runs.csv": (), "measured_summary.csv": ()}, 700, True,
+        "measured_runs.csv": (), "measured_summary.csv": ()}, 1100, True,
         "fig_personalise"),
     Question("capture", ("landscape",), {"columns.csv": (), "scores.csv": ()}, 15, False,
              "fig_capture"),
@@ -95,7 +95,7 @@ QUESTIONS = (
         "study_task.csv": ()}, 200, True, "fig_people"),
     Question("manikins", ("robustness",), {"manikins.csv": ()}, 15),
     Question("accommodation", ("robustness",), {
-        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 600, True,
+        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 300, True,
         "fig_accommodation"),
     Question("shift", ("population",), {"reference.csv": (), "curves.csv": (),
                                          "locations.csv": ()}, 120, False, "fig_shift"),
