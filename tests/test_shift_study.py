@@ -66,7 +66,7 @@ def test_the_shift_locations_compare_the_posture_optimum_with_the_shifts_best():
         alone = found.loc["best for the shift alone"]
         assert same["paper_postural"] == optimum["paper_postural"]
         assert alone["paper_postural"] >= optimum["paper_postural"]
-        lasts = kept.loc[rows.index].set_index(rows["location"])
+        lasts = pd.Series(kept.loc[rows.index].to_numpy(), index=rows["location"])
         assert lasts["best for the shift alone"] >= lasts[
             "best for the shift at the optimal score"] >= lasts["posture-optimal"]
     # At one location the shift takes more the faster the handovers come.

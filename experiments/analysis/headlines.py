@@ -319,16 +319,7 @@ def personalise_rows(results: Path) -> list[Headline]:
     reversal = [f"at {said} out of model ({int(out['n_workers'])} workers whose twin differs) "
                 f"the gain's interval reaches {out['gain_ci_low']:+.2f} and "
                 f"{pct(out['harm'])} of runs are worse than no search"]
-    # Workers the prior does not know, and an IMU's errors, where the gain's interval reaches 0.
-    others = [(m, answers) for m in personalise_tables.unknown_models(measured)] + [
-        ("in-model", a) for a in measured["answers"].unique() if a.startswith("IMU")]
-    for model, said_as in others:
-        there = personalise_tables.at(measured, model, said_as, best["searcher"], best["rule"],
-                                      budget)
-        if there["gain_ci_low"] <= 0:
-            who = (f"{int(there['n_workers'])} {model} workers" if model != "in-model" else
-                   f"with an IMU's errors ({int(there['n_workers'])} workers)")
-            reversal.append(f"{who}: the gain's interval reaches {there['gain_ci_low']:+.2f}")
+    reversal += personalise_tables.other_reversals(measured, best)
     reversal.append(f"its model states {pct(best['model_p_optimal'])} for the "
                     f"{pct(best['p_regret_0'])} it finds")
     return [Headline(

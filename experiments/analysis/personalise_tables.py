@@ -229,6 +229,20 @@ def unknown_models(measured: pd.DataFrame) -> list[str]:
     return [m for m in dict.fromkeys(measured["model"]) if m not in ("in-model", "out-of-model")]
 
 
+def other_reversals(measured: pd.DataFrame, best: pd.Series) -> list[str]:
+    """Where the best searcher's gain over no search has an interval reaching 0 at the
+    headline budget among workers the prior does not know (under the headline's answers) and
+    in model with an IMU's errors."""
+    found = []
+    for model, said in [(m, HEADLINE_ANSWERS) for m in unknown_models(measured)] + [
+            ("in-model", a) for a in measured["answers"].unique() if a.startswith("IMU")]:
+        there = at(measured, model, said, best["searcher"], best["rule"], HEADLINE_BUDGET)
+        if there["gain_ci_low"] <= 0:
+            found.append(f"{model} workers, {said}: the gain's interval reaches "
+                         f"{there['gain_ci_low']:+.2f}")
+    return found
+
+
 def measured_table(measured: pd.DataFrame) -> list[str]:
     """Per model, searcher and rule: the share of runs whose recommendation after the headline
     budget is a true optimum (95 % interval over workers) under each answer model; no
