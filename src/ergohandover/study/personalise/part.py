@@ -208,31 +208,31 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
 
 def out_of_model(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
                  engine: Engine) -> list[tuple[str, str, Evaluator]]:
-    """The first workers with each sensitivity variant's twin, their landscapes swept (or read
-    from the cache) and their scores kept for the pool's workers."""
+    """The first workers with each sensitivity variant's twin (:func:`changed_twins`)."""
     named = {v.name: v for v in variants(evaluators[0])}
     twins = [(w, name, named[name].evaluator(e)) for name in part.measured_variants
              for w, e in zip(chosen["worker"][:part.measured_variant_workers],
                              evaluators, strict=False)]
-    if twins:
-        print(f"  out of model: {len(twins)} twins ({', '.join(part.measured_variants)})")
-        for (w, name, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
-                                           strict=True):
-            prepare_values(truth_key(w, name), part.objective, landscape)
-    return twins
+    return changed_twins(twins, part, grid, engine, "out of model", part.measured_variants)
 
 
 def unknown(part, chosen: pd.DataFrame, evaluators: list[Evaluator], grid,
             engine: Engine) -> list[tuple[str, str, Evaluator]]:
     """The first workers changed into each kind the prior does not know (impaired, stepping,
-    of other proportions), their landscapes swept (or read from the cache) and their scores
-    kept for the pool's workers."""
+    of other proportions: :func:`changed_twins`)."""
     twins = [(w, kind, unknown_twin(kind, e)) for kind in part.measured_unknown
              for w, e in zip(chosen["worker"][:part.measured_unknown_workers], evaluators,
                              strict=False)]
+    return changed_twins(twins, part, grid, engine, "workers the prior does not know",
+                         part.measured_unknown)
+
+
+def changed_twins(twins: list[tuple[str, str, Evaluator]], part, grid, engine: Engine,
+                  said: str, kinds) -> list[tuple[str, str, Evaluator]]:
+    """``twins`` ((worker, kind, evaluator)), their landscapes swept (or read from the cache)
+    and their scores kept for the pool's workers."""
     if twins:
-        print(f"  workers the prior does not know: {len(twins)} twins "
-              f"({', '.join(part.measured_unknown)})")
+        print(f"  {said}: {len(twins)} twins ({', '.join(kinds)})")
         for (w, kind, _), landscape in zip(twins, landscapes(engine, [t[2] for t in twins], grid),
                                            strict=True):
             prepare_values(truth_key(w, kind), part.objective, landscape)
