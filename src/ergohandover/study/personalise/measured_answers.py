@@ -112,8 +112,9 @@ class Answers:
     def source(self, grid: Grid, evaluator: Evaluator, objective: str, values: np.ndarray,
                rng: np.random.Generator, postures: dict) -> ScoreSource:
         """The score source answering a run's handovers."""
-        if self.error is not None:
-            return MeasuredScores(grid, evaluator, objective, self.error, rng, block=BLOCK,
+        error = self.error  # a measured error model factors its covariance when made
+        if error is not None:
+            return MeasuredScores(grid, evaluator, objective, error, rng, block=BLOCK,
                                   postures=postures)
         return RatedScores(grid, values, rater_sd(values, self.level), rng, objective)
 
