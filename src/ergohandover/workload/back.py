@@ -89,6 +89,14 @@ def _forward(angle_deg: np.ndarray) -> np.ndarray:
     return np.sin(np.radians(angle_deg))
 
 
+def _arm(p: Posture, side: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One arm's upper arm and forearm angles from the vertical [deg]. Down-pointing segments
+    turn against the trunk's lean: an arm flexed as far as the trunk is bent hangs straight
+    down."""
+    upper = p.arm(side, "upper_arm_flexion") - theta
+    return upper, upper + p.arm(side, "elbow_flexion")
+
+
 def grip_reach_m(p: Posture, levers: Levers) -> np.ndarray:
     """How far forward of L5/S1 the hands hold the load [m], the two grips' mean: the
     horizontal lever of the load in the same sagittal chain as :func:`back_load`."""
@@ -96,8 +104,7 @@ def grip_reach_m(p: Posture, levers: Levers) -> np.ndarray:
     shoulder_x = (levers.trunk[0] - levers.shoulder_drop) * _forward(theta)
     reach = []
     for side in SIDES:
-        upper = p.arm(side, "upper_arm_flexion") - theta
-        fore = upper + p.arm(side, "elbow_flexion")
+        upper, fore = _arm(p, side, theta)
         reach.append(shoulder_x + levers.upper_arm[0] * _forward(upper)
                      + (levers.forearm[0] + levers.grip_offset) * _forward(fore))
     return (reach[0] + reach[1]) / 2.0
@@ -118,10 +125,7 @@ def back_load(p: Posture, levers: Levers) -> dict[str, np.ndarray]:
     arm_kg = sum(getattr(levers, k)[1] for k in ("upper_arm", "forearm", "hand"))
     shoulder_nm, elbow_nm = [], []
     for side in SIDES:
-        # Down-pointing segments turn against the trunk's lean: an arm flexed as far as the trunk
-        # is bent hangs straight down.
-        upper = p.arm(side, "upper_arm_flexion") - theta
-        fore = upper + p.arm(side, "elbow_flexion")
+        upper, fore = _arm(p, side, theta)
         ua_len, ua_kg, ua_com = levers.upper_arm
         fa_len, fa_kg, fa_com = levers.forearm
         hand_len, hand_kg, hand_com = levers.hand
