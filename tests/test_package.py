@@ -33,9 +33,12 @@ def test_run_all_quick_produces_every_table_and_figure_and_resumes(tmp_path, mon
     monkeypatch.setenv("ERGOHANDOVER_CACHE", str(cache))
     command = [sys.executable, str(ROOT / "experiments" / "run_all.py"), "--quick",
                "--results", str(results), "--figures", str(figures)]
+    documents = {page: page.read_bytes() for page in (ROOT / "README.md", *ROOT.glob("docs/*.md"))}
     # The timeouts guard against a hang, not a time target (a shared machine's speed varies).
     first = subprocess.run(command, capture_output=True, text=True, timeout=1800)
     assert first.returncode == 0, first.stderr[-2000:]
+    # A run into a folder of its own never rewrites the documents (they quote the committed run).
+    assert [p.name for p, text in documents.items() if p.read_bytes() != text] == []
     for part in ("landscape", "learning", "baselines", "ablations", "participants",
                  "population"):
         manifest = json.loads((results / part / "manifest.json").read_text())

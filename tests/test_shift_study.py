@@ -44,12 +44,12 @@ def test_the_curves_fall_with_the_load_and_match_the_table():
 def test_the_reports_table_is_the_committed_results():
     sys.path.insert(0, str(ROOT / "experiments" / "analysis"))
     try:
-        import fig_shift
+        import shift_tables
         from readme_blocks import readme_block
     finally:
         sys.path.pop(0)
     report = (ROOT / "docs" / "report.md").read_text()
-    for name, text in fig_shift.blocks(ROOT / "results").items():
+    for name, text in shift_tables.blocks(ROOT / "results").items():
         assert readme_block(report, name) == text, name
 
 
