@@ -80,12 +80,13 @@ def test_one_lucky_low_reading_among_higher_ones_is_not_what_it_recommends():
     cells = [*others, lucky]
     told = [answer_at(1, c) for c in others] + [answer_at(1, lucky, score=1.0)]
     fitted = make("fitted-twin", GRID, 0, PRIOR, twins=library(1))
-    lowest = make("prior", GRID, 0, PRIOR)
-    for searcher in (fitted, lowest):
+    answers_only = make("prior", GRID, 0, PRIOR)  # a model of its answers alone
+    for searcher in (fitted, answers_only):
         for cell, answer in zip(cells, told, strict=True):
             searcher._pending = cell  # these handovers, whatever it would have proposed
             searcher.tell(cell, answer)
-    assert lowest.recommend().cell == lucky  # the lowest reading: a lucky measurement
+    # Far from every other reading, a model of the answers alone takes it at its word.
+    assert answers_only.recommend().cell == lucky
     assert fitted.recommend().cell != lucky
     assert own[fitted.recommend().cell] < own[lucky]
 

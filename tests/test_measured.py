@@ -108,8 +108,9 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
     job = measured_job(Answers("posture", 0.0))
     values = truth_of(job)
     exact = pd.DataFrame(run_measured_job(job))
-    assert len(exact) == 3 * 3 * 2 and (exact["optimum_score"] == values.min()).all()
-    assert set(exact["answers"]) == {"exact"} and set(exact["rule"]) == {"lowest", "confirm"}
+    assert len(exact) == 3 * 3 * 3 and (exact["optimum_score"] == values.min()).all()
+    assert set(exact["answers"]) == {"exact"}
+    assert set(exact["rule"]) == {"model", "lowest", "confirm"}
     lowest = exact[exact["rule"] == "lowest"]
     # Without error the answer is the true score, and more handovers never do worse.
     assert (lowest["answer"] == lowest["true_score"]).all()

@@ -117,7 +117,7 @@ def test_the_measured_answers_cover_every_searcher_answer_model_budget_and_twin(
     assert any(a.kind == "imu" for a in models)
     headline = f"posture SD {part.headline_sd:g} deg"
     rules = {s: (["model", "model, stopped"] if s == "fitted-twin" else ["model"]
-                 if s.startswith("pairwise") else ["lowest", "confirm"])
+                 if s.startswith("pairwise") else ["model", "lowest", "confirm"])
              for s in part.measured_searchers}
     groups = {"in-model": labels, "out-of-model": labels, "impaired": {headline},
               "steps or other proportions": {headline}}

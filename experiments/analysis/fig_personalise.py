@@ -9,8 +9,8 @@ a note. Reads results/personalise/curves.csv and summary.csv.
 
 personalise_measured.png: with answers as a site gets them — each searcher's gain over not
 searching (the true regret of one handover at the prior's location minus that of its
-recommendation, paired per worker) after each budget, under its own recommendation (its model's,
-or the lowest answer), with 95 % intervals over workers (each searcher's points set a little
+recommendation, paired per worker) after each budget, under its model's recommendation (its own,
+or a model of its answers), with 95 % intervals over workers (each searcher's points set a little
 apart); a panel per answer model, in model (top) and out of model (bottom), each titled with
 what no search gives. Reads results/personalise/measured_summary.csv."""
 
@@ -177,7 +177,7 @@ def main() -> None:
 
 def measured_figure() -> None:
     summary = read("personalise/measured_summary.csv")
-    own = summary["rule"].isin(("model", "lowest"))  # each searcher's own recommendation
+    own = summary["rule"] == "model"  # each searcher's model's recommendation
     baseline = summary[summary["searcher"] == "no search"]
     summary = summary[own]
     answers = list(dict.fromkeys(summary["answers"]))

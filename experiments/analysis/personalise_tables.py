@@ -133,7 +133,8 @@ def share(row) -> str:
 
 
 def rule_label(searcher: str, rule: str) -> str:
-    said = {"lowest": "", "confirm": ", measuring the best again", "model": "",
+    said = {"lowest": ", its lowest reading", "confirm": ", measuring the best again",
+            "model": "",
             "model, stopped": ", stopped by its model", "prior's location": ""}[rule]
     return label(searcher) + said
 
@@ -156,9 +157,10 @@ def at(measured: pd.DataFrame, model: str, answers: str, searcher: str, rule: st
 
 
 def own_rule(measured: pd.DataFrame) -> pd.DataFrame:
-    """Each searcher's rows under its own recommendation rule (its model's, or the lowest
-    answer), without the alternatives (``confirm``, a model's stop) and the baseline."""
-    return measured[measured["rule"].isin(("model", "lowest"))]
+    """Each searcher's rows under its model's recommendation (its own model, or a model of
+    its answers), without the alternatives (the lowest reading, ``confirm``, a model's stop)
+    and the baseline."""
+    return measured[measured["rule"] == "model"]
 
 
 def gain(row) -> str:

@@ -23,6 +23,7 @@ from ..errors import ConfigError
 from ..landscape.grid import Grid
 from .prior import Prior
 from .protocol import AskTellSearcher, Recommendation, told
+from .surrogate import surrogate_recommendation
 
 
 def prior_point(grid: Grid, prior: Prior) -> tuple[np.ndarray, np.ndarray]:
@@ -79,11 +80,12 @@ class NewCellSearcher(AskTellSearcher):
         self._learn(cell, answer.score)
 
     def recommend(self) -> Recommendation:
-        """Where it would hand over after what it was told. Without a model of the worker: the
-        location of the lowest answer heard (the first of equals), which under measurement
-        error favours a lucky reading; a searcher with a model overrides this."""
-        finite = {c: s for c, s in self.told.items() if math.isfinite(s)}
-        return Recommendation(min(finite, key=finite.get) if finite else None)
+        """Where it would hand over after what it was told: without a model of the worker of
+        its own, the tried cell a model of its answers expects lowest
+        (:func:`~.surrogate.surrogate_recommendation`; never the lowest single reading, which
+        under measurement error favours a lucky one); a searcher with a model overrides this."""
+        return Recommendation(surrogate_recommendation(self.grid, self.cells,
+                                                       self.told_answers))
 
     @abstractmethod
     def _propose(self) -> int:

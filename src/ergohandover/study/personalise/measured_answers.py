@@ -15,10 +15,12 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   worker's optimum (``model``: :meth:`recommend`, with the model's probability that it is the
   optimum), and may stop early (``model, stopped``: at the first handover after which that
   probability reaches the stopping level, ``stop_level``; the handovers used are reported). A
-  searcher without one recommends the location of the lowest answer among B handovers
-  (``lowest``, the first of equals: under measurement error it favours a lucky reading), or
-  (``confirm``) searches B − k handovers and spends the last k (:func:`confirmations`)
-  measuring the k best again, the lowest mean of two recommended — a repeat costs a handover;
+  searcher without one recommends from a model of the worker's scores fitted to its answers
+  (``model``: :mod:`~...search.surrogate`, a Gaussian process over the tried cells). Beside it,
+  for comparison: the location of the lowest answer among B handovers (``lowest``, the first of
+  equals: under measurement error it favours a lucky reading), and (``confirm``) searching
+  B − k handovers and spending the last k (:func:`confirmations`) measuring the k best again,
+  the lowest mean of two recommended — a repeat costs a handover;
 - **a twin fitted to the worker** (:mod:`~...search.fitted_twin`): a posterior over the
   population's other bodies, displaced a little, weighed by every measured angle;
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
@@ -56,6 +58,7 @@ from ...search import Budget, entry, make
 from ...search import run as run_search
 from ...search.fitted_twin import TwinLibrary
 from ...search.prior import Prior
+from ...search.surrogate import surrogate_recommendation
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
@@ -282,7 +285,10 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
                                  if kept[n].p_optimal >= job.stop_level), spent)
                     found["model, stopped"] = (kept[stop].cell, math.nan, stop,
                                                kept[stop].p_optimal)
-            else:
+            else:  # the surrogate's recommendation, and the lowest reading's beside it
+                found["model"] = (surrogate_recommendation(job.grid, record.cells[:budget],
+                                                           record.scores[:budget]),
+                                  math.nan, spent, math.nan)
                 best = recommendation(record.scores, budget)
                 again = source(measurement_rng(seed, job.answers, budget))
                 lowest = None if best is None else record.cells[best]
