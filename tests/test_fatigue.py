@@ -130,3 +130,26 @@ def test_an_impossible_shift_is_refused_in_one_line(kwargs, expected):
     assert "\n" not in str(raised.value)
     with pytest.raises(ConfigError, match="'wrist' is not allowed"):
         endurance_time(0.5, "wrist")
+
+
+@pytest.mark.parametrize("plan", [Shift(1.0, 3.0, 2.0), Shift(6.0, 8.0, 2.0)])
+def test_the_shifts_table_reads_as_the_shift_itself(plan):
+    rng = np.random.default_rng(7)
+    loads = np.concatenate([rng.uniform(0.0, 1.2, 3000), [0.0, 1.0, 1.5]])
+    exact = shift(loads, "shoulder", plan)
+    read = fatigue.shift_by_table(loads, "shoulder", plan)
+    lives = np.isinf(exact.failure_min)
+    assert 0 < lives.sum() < len(loads)  # both sides of the never-failing load are read
+    assert (np.isinf(read.failure_min) == lives).all()  # whether a load fails: exact
+    np.testing.assert_allclose(read.capacity_end[lives], exact.capacity_end[lives], atol=1e-6)
+    np.testing.assert_allclose(read.capacity_min[lives], exact.capacity_min[lives], atol=1e-6)
+    assert np.isnan(read.capacity_end[~lives]).all()
+    late = np.abs(read.failure_min[~lives] - exact.failure_min[~lives])
+    assert late.max() <= plan.cycle_s / 60.0  # a failure's minute: within a cycle
+    # Just either side of the largest load that never fails over the shift.
+    table_loads, table = fatigue._tabulated("shoulder", plan)
+    edge = table_loads[np.isinf(table.failure_min)][-1]
+    near = np.array([edge - 1e-9, edge, edge + 1e-9])
+    np.testing.assert_array_equal(np.isinf(fatigue.shift_by_table(near, "shoulder",
+                                                                  plan).failure_min),
+                                  np.isinf(shift(near, "shoulder", plan).failure_min))

@@ -63,15 +63,18 @@ def shift_columns(posture: Posture, body: BodySpec, plan,
     joint's load share, minutes to its first failure and capacity at the shift's end; the
     first failure of any joint (``shift_failure_min``, ``inf``: none) and the lowest capacity
     at the end (``shift_capacity_end``, NaN where a joint failed); and the low back's daily
-    dose and high-risk probability (LiFFT) of the shift's handovers."""
+    dose and high-risk probability (LiFFT) of the shift's handovers. The joints' shifts are
+    read from a table of the shift over load (:func:`~.fatigue.shift_by_table`, made once per
+    joint and shift in a process): whether a joint fails is exact, a failure's minute is within
+    a cycle."""
     from .back import grip_reach_m
-    from .fatigue import shift
+    from .fatigue import shift_by_table
     from .lifft import daily_dose, high_risk_probability, peak_load_moment_nm
 
     out: dict[str, np.ndarray] = {}
     first, lowest = None, None
     for joint, share in load_shares(posture, body, age).items():
-        found = shift(share, joint, plan)
+        found = shift_by_table(share, joint, plan)
         out[f"{joint}_load_share"] = share
         out[f"{joint}_failure_min"] = found.failure_min
         out[f"{joint}_capacity_end"] = found.capacity_end
