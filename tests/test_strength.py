@@ -64,3 +64,22 @@ def test_a_shifts_columns_are_its_joints_worst_and_lifts_dose():
     assert np.allclose(out["lifft_dose"], daily_dose(plm, plan.handovers))
     assert np.allclose(out["lifft_dose"], plan.handovers * damage_per_lift(plm))
     assert (np.diff(out["lifft_dose"]) > 0).all()  # the further the reach, the larger the dose
+
+
+def test_a_workers_shift_is_kept_only_where_every_joint_keeps_enough_and_none_fails():
+    from ergohandover.workload.fatigue import never_failing_load, shift
+    from ergohandover.workload.strength import shift_outcome
+
+    plan = Shift(6.0, 8.0, 8.0)
+    light, heavy = 0.05, 0.6  # a light load keeps most; a heavy one fails within the shift
+    assert np.isfinite(shift(heavy, "elbow", plan).failure_min)
+    assert heavy > never_failing_load("elbow")
+    shares = {"shoulder": np.array([light, light, light, np.nan]),
+              "elbow": np.array([light, heavy, light, np.nan]),
+              "trunk": np.array([light, light, 0.3, np.nan])}
+    kept_at_end = float(shift(0.3, "trunk", plan).capacity_end)
+    found = shift_outcome(shares, plan, keep=(1 + kept_at_end) / 2)  # the trunk's 0.3 falls short
+    assert found["kept"].tolist() == [True, False, False, False]
+    assert found["fails"].tolist() == [False, True, False, False]  # NaN: the box not taken
+    assert shift_outcome(shares, plan, keep=kept_at_end - 1e-9)["kept"].tolist() == [
+        True, False, True, False]

@@ -120,14 +120,17 @@ class StudyConfig:
         """What a part's results depend on (hashed into its manifest): its own section and, for
         every part after it, the landscape's (they all read the landscape) and those of the
         questions it needs, directly or through another (:func:`.registry.needed`); for the
-        capture part also the capture layer's code, for the shift part the fatigue models',
+        capture part also the capture layer's code, for the shift part and the accommodation part
+        (its workforce's shifts) the shift's section and the fatigue models' code,
         for the people part the measured handovers' derived figures."""
         sections = (part,) if part == "landscape" else (
             part, *dict.fromkeys(("landscape", *needed(part))))
         inputs = {name: dataclasses.asdict(getattr(self, name)) for name in sections}
         if part == "capture":  # its results are the capture layer's arithmetic
             inputs["capture_code"] = capture_code_version()
-        if part == "shift":  # its results are the fatigue models' arithmetic
+        if part in ("shift", "accommodation"):  # the fatigue models' arithmetic (the
+            # accommodation part's workforce over the shift's plans)
+            inputs["shift"] = dataclasses.asdict(self.shift)
             inputs["fatigue_code"] = fatigue_code_version()
         if part == "people":  # its results are the derived figures' comparison with the twin
             inputs["measured_data"] = measured_data_version()

@@ -95,7 +95,8 @@ QUESTIONS = (
         "study_task.csv": ()}, 200, True, "fig_people"),
     Question("manikins", ("robustness",), {"manikins.csv": ()}, 15),
     Question("accommodation", ("robustness",), {
-        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": ()}, 300, True,
+        "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": (),
+        "shift.csv": (), "shift_zone.csv": ()}, 300, True,
         "fig_accommodation"),
     Question("shift", ("population",), {"reference.csv": (), "curves.csv": (),
                                          "locations.csv": ()}, 120, False, "fig_shift"),

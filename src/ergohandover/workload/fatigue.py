@@ -19,11 +19,11 @@ falls below TL. Under a sustained load the failure time has a closed form
 
 **A shift** (:func:`shift`): handovers at a steady rate, each a hold of TL for ``hold`` seconds,
 then rest until the next. Within a hold (before failure) and within a rest the model is linear,
-so each phase is integrated exactly (:func:`_hold`, :func:`_rest`): a shift of thousands of
-handovers costs a few numpy operations per handover on arrays of every load at once, and the
-time of a failure inside a hold is found by bisection on the exact solution. The outcome
-depends on the load alone, so many locations or workers read one table of the shift over load
-(:func:`shift_by_table`) instead of each running the shift.
+so each phase is integrated exactly (:func:`_hold`, :func:`_rest`), and the time of a failure
+inside a hold is found by bisection on the exact solution. Starting rested, the state before a
+failure is also proportional to TL, so the shift is followed once at a load of 1 and every
+load reads it: a shift of thousands of handovers at a million locations costs a few numpy
+operations per location.
 """
 
 from __future__ import annotations
@@ -193,95 +193,57 @@ def _failure_within(ma, mf, tl, hold, f, r, steps: int = 40) -> np.ndarray:
     return hi
 
 
+@lru_cache(maxsize=64)
+def _per_unit_load(joint: str, plan: Shift) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The shift at a load of 1, followed without failing: MA and MF before each handover and
+    at the end ((N + 1,) each) and MF at each hold's end ((N,)). Before a failure the model is
+    linear in the load (the recruitment's target is proportional to it, and the shift starts
+    at rest), so a load TL's shift is TL times this one until it fails."""
+    r = rates(joint)
+    basis_ma, basis_mf = np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0])
+    held = _hold(basis_ma, basis_mf, 1.0, plan.hold_s, r.fatigue, r.recovery)
+    rested = _rest(basis_ma, basis_mf, plan.cycle_s - plan.hold_s, r.fatigue, r.recovery)
+    # Each phase as an affine map of (MA, MF), read off the basis states: a hold's constant
+    # part and matrix, a rest's matrix (a rest has no constant part).
+    h0 = (float(held[0][0]), float(held[1][0]))
+    hm = [[float(held[i][j + 1] - held[i][0]) for j in range(2)] for i in range(2)]
+    qm = [[float(rested[i][j + 1]) for j in range(2)] for i in range(2)]
+    count = plan.handovers
+    ma, mf, peak = np.zeros(count + 1), np.zeros(count + 1), np.zeros(count)
+    a, f = 0.0, 0.0
+    for n in range(count):  # scalar arithmetic: a shift of thousands costs milliseconds
+        ha = h0[0] + hm[0][0] * a + hm[0][1] * f
+        hf = h0[1] + hm[1][0] * a + hm[1][1] * f
+        peak[n] = hf
+        a, f = qm[0][0] * ha + qm[0][1] * hf, qm[1][0] * ha + qm[1][1] * hf
+        ma[n + 1], mf[n + 1] = a, f
+    return ma, mf, peak
+
+
 def shift(load, joint: str, plan: Shift = Shift()) -> ShiftOutcome:
     """The joint over a shift of handovers at ``load`` (share of strength, any shape; 0: the
-    handover does not load it), starting rested."""
+    handover does not load it), starting rested.
+
+    The shift at a load of 1 is followed once per joint and shift (:func:`_per_unit_load`);
+    a load TL fails at the first hold whose end would leave less than TL, TL·MF > 1 − TL, and
+    within it at the time found by bisection on the exact solution; until then its state is TL
+    times the unit load's. The cost is the unit shift once, then a few operations per load."""
     r = rates(joint)
     tl = np.clip(np.asarray(load, dtype=float), 0.0, None)
     shape = tl.shape
     tl = tl.ravel()
-    ma, mf = np.zeros_like(tl), np.zeros_like(tl)
+    ma, mf, peak = _per_unit_load(joint, plan)
+    with np.errstate(divide="ignore"):
+        allowed = np.where(tl > 0, (1.0 - tl) / np.where(tl > 0, tl, 1.0), np.inf)
+    first = np.searchsorted(np.maximum.accumulate(peak), allowed, side="right")
+    fails = first < plan.handovers
     failed_at = np.full_like(tl, np.inf)
-    lowest = np.ones_like(tl)
-    rest = plan.cycle_s - plan.hold_s
-    for n in range(plan.handovers):
-        alive = np.isinf(failed_at)
-        lowest = np.where(alive, np.minimum(lowest, 1.0 - mf), lowest)
-        held_ma, held_mf = _hold(ma, mf, tl, plan.hold_s, r.fatigue, r.recovery)
-        fails = alive & (held_mf > 1.0 - tl) & (tl > 0)
-        if fails.any():
-            within = _failure_within(ma[fails], mf[fails], tl[fails], plan.hold_s,
-                                     r.fatigue, r.recovery)
-            failed_at[fails] = n * plan.cycle_s + within
-        ma, mf = _rest(held_ma, held_mf, rest, r.fatigue, r.recovery)
-    alive = np.isinf(failed_at)
+    if fails.any():
+        n, held = first[fails], tl[fails]
+        within = _failure_within(held * ma[n], held * mf[n], held, plan.hold_s, r.fatigue,
+                                 r.recovery)
+        failed_at[fails] = n * plan.cycle_s + within
+    alive = ~fails
     return ShiftOutcome((failed_at / 60.0).reshape(shape),
-                        np.where(alive, 1.0 - mf, np.nan).reshape(shape),
-                        np.where(alive, np.minimum(lowest, 1.0 - mf), np.nan).reshape(shape))
-
-
-
-TABLE_STEPS = 4000
-"""Loads in a tabulated shift (:func:`shift_by_table`): every 1/4000 of strength up to full
-strength, and more where a failure's time changes fast."""
-SPLIT = 16
-"""Parts an interval of the table is cut into where the failure's time changes by more than a
-cycle across it."""
-
-
-@lru_cache(maxsize=64)
-def _tabulated(joint: str, plan: Shift) -> tuple[np.ndarray, ShiftOutcome]:
-    """The shift at loads up to full strength: every :data:`TABLE_STEPS`-th of it; the largest
-    load that never fails over the shift, to 1e-12 by bisection, and one just above it, so no
-    interval straddles a failure; and, where the failure's time changes by more than a cycle
-    between neighbours (steeply, just above the never-failing load), loads in between until it
-    does not (or they lie within 1e-12)."""
-    loads = np.linspace(0.0, 1.0, TABLE_STEPS + 1)
-    found = shift(loads, joint, plan)
-    alive = np.isinf(found.failure_min)
-    if alive.any() and not alive.all():
-        lo, hi = loads[alive][-1], loads[~alive][0]  # failure is monotone in the load
-        while hi - lo > 1e-12:
-            trial = np.linspace(lo, hi, 33)
-            fails = ~np.isinf(shift(trial, joint, plan).failure_min)
-            lo, hi = trial[~fails][-1], trial[fails][0]
-        loads = np.sort(np.concatenate([loads, [lo, hi]]))
-        found = shift(loads, joint, plan)
-    cycle_min = plan.cycle_s / 60.0
-    while True:
-        with np.errstate(invalid="ignore"):  # inf - inf between loads that never fail
-            jump = np.abs(np.diff(found.failure_min))
-        wide = np.flatnonzero((jump > cycle_min) & np.isfinite(jump)
-                              & (np.diff(loads) > 1e-12))
-        if wide.size == 0:
-            return loads, found
-        parts = np.linspace(0.0, 1.0, SPLIT + 1)[1:-1]
-        added = (loads[wide, None] + np.diff(loads)[wide, None] * parts).ravel()
-        more = shift(added, joint, plan)
-        loads = np.concatenate([loads, added])
-        order = np.argsort(loads, kind="stable")
-        loads = loads[order]
-        found = ShiftOutcome(*(np.concatenate([a, b])[order] for a, b in zip(
-            (found.failure_min, found.capacity_end, found.capacity_min),
-            (more.failure_min, more.capacity_end, more.capacity_min), strict=True)))
-
-
-def shift_by_table(load, joint: str, plan: Shift = Shift()) -> ShiftOutcome:
-    """:func:`shift` for many loads at once, read from a table of the shift over load (made
-    once per joint and shift in a process, :func:`_tabulated`) by linear interpolation.
-    Whether a load fails is decided exactly (against the largest load that never fails, found
-    to 1e-12); what the joints keep is within 1e-6 of :func:`shift`, a failure's minute within
-    a cycle. A load above full strength fails as the hold begins (capacity 1 is below it)."""
-    tl = np.clip(np.asarray(load, dtype=float), 0.0, None)
-    loads, table = _tabulated(joint, plan)
-    alive = np.isinf(table.failure_min)
-    threshold = loads[alive][-1] if alive.any() else -1.0
-    lives = tl <= threshold
-    failure = np.where(lives, np.inf, 0.0)
-    ends, lows = np.full_like(tl, np.nan), np.full_like(tl, np.nan)
-    ends[lives] = np.interp(tl[lives], loads[alive], table.capacity_end[alive])
-    lows[lives] = np.interp(tl[lives], loads[alive], table.capacity_min[alive])
-    dies = ~lives & (tl <= 1.0)
-    if dies.any():
-        failure[dies] = np.interp(tl[dies], loads[~alive], table.failure_min[~alive])
-    return ShiftOutcome(failure, ends, lows)
+                        np.where(alive, 1.0 - tl * mf[-1], np.nan).reshape(shape),
+                        np.where(alive, 1.0 - tl * mf.max(), np.nan).reshape(shape))

@@ -63,18 +63,15 @@ def shift_columns(posture: Posture, body: BodySpec, plan,
     joint's load share, minutes to its first failure and capacity at the shift's end; the
     first failure of any joint (``shift_failure_min``, ``inf``: none) and the lowest capacity
     at the end (``shift_capacity_end``, NaN where a joint failed); and the low back's daily
-    dose and high-risk probability (LiFFT) of the shift's handovers. The joints' shifts are
-    read from a table of the shift over load (:func:`~.fatigue.shift_by_table`, made once per
-    joint and shift in a process): whether a joint fails is exact, a failure's minute is within
-    a cycle."""
+    dose and high-risk probability (LiFFT) of the shift's handovers."""
     from .back import grip_reach_m
-    from .fatigue import shift_by_table
+    from .fatigue import shift
     from .lifft import daily_dose, high_risk_probability, peak_load_moment_nm
 
     out: dict[str, np.ndarray] = {}
     first, lowest = None, None
     for joint, share in load_shares(posture, body, age).items():
-        found = shift_by_table(share, joint, plan)
+        found = shift(share, joint, plan)
         out[f"{joint}_load_share"] = share
         out[f"{joint}_failure_min"] = found.failure_min
         out[f"{joint}_capacity_end"] = found.capacity_end
@@ -87,3 +84,23 @@ def shift_columns(posture: Posture, body: BodySpec, plan,
     out["lifft_dose"] = dose
     out["lifft_high_risk"] = high_risk_probability(dose)
     return out
+
+
+def shift_outcome(shares: dict[str, np.ndarray], plan, keep: float) -> dict[str, np.ndarray]:
+    """Of loads ``shares`` (each joint of :data:`JOINTS` -> its load share, any shape; NaN
+    where the box is not taken) over a shift (``plan``: a :class:`~.fatigue.Shift`):
+    ``kept`` where every joint ends it unfailed with at least ``keep`` of its capacity, and
+    ``fails`` where a joint fails during it (both False where the box is not taken)."""
+    from .fatigue import shift
+
+    kept, fails = None, None
+    for joint in JOINTS:
+        share = np.asarray(shares[joint], dtype=float)
+        taken = np.isfinite(share)
+        found = shift(np.where(taken, share, 0.0), joint, plan)
+        alive = np.isinf(found.failure_min)
+        good = taken & alive & (np.nan_to_num(found.capacity_end, nan=-1.0) >= keep)
+        bad = taken & ~alive
+        kept = good if kept is None else kept & good
+        fails = bad if fails is None else fails | bad
+    return {"kept": kept, "fails": fails}

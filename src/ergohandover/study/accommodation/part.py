@@ -9,6 +9,12 @@ workers run as independent jobs on the study's engine (the local pool or Ray); a
 is mostly the twin's warm-start lattice, solved once per body, so a finer grid costs little
 more and more workers cost in proportion.
 
+Over a working day: each worker's shoulder, elbow and low-back moments at each posture, as
+shares of that worker's strength (:mod:`ergohandover.workload.strength`), through a shift of
+handovers at each rate and hold of the shift section (the three-compartment fatigue model,
+:mod:`ergohandover.workload.fatigue`), give the share of the workforce that ends the shift with
+enough of every joint's capacity left.
+
 Writes results/accommodation/:
   cells.csv      every grid point: the share of the workforce that can take the box there, and
                  the share served (REBA and RULA within limits) error-free and as measured, each
@@ -18,6 +24,12 @@ Writes results/accommodation/:
                  whose interval's lower end does, and the largest box of cells all in the zone
   workers.csv    each worker's body and, at the recommended location (the nominal optimum),
                  feasibility, REBA, RULA, suited or not, and the chance as measured
+  shift.csv      per handover rate and hold of the shift section (its 8-hour shift), at each
+                 headline location: the share of the workforce that ends the shift with at
+                 least the section's ``keep`` of every joint's capacity (interval over
+                 workers), and the share with a joint that fails during it
+  shift_zone.csv per rate and hold: the grid's cells where that share reaches the stated share,
+                 and the cell of the largest share
   manifest.json
 """
 
@@ -31,11 +43,13 @@ import pandas as pd
 from ...io.atomic import atomic_write_csv
 from ...landscape.grid import Grid
 from ...twin.evaluate import Evaluator
+from ...workload.strength import JOINTS, shift_outcome
 from ..config import StudyConfig
 from ..engines import Engine
 from ..resume import run_part
 from ..robustness.recorded import headline_locations
 from ..shared import grid_of, run_jobs
+from ..shift.config import ShiftConfig
 from ..workforce import Workforce, bodies, sample_workforce
 from .config import AccommodationConfig
 from .zone import accommodated, largest_box, shares
@@ -80,6 +94,38 @@ def zone_rows(cells: pd.DataFrame, grid: Grid, part: AccommodationConfig,
     return rows
 
 
+def workforce_shifts(stacked: dict[str, np.ndarray], shift: ShiftConfig, grid: Grid,
+                     named: pd.DataFrame, part: AccommodationConfig
+                     ) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The workforce over a shift of each of the shift section's plans: at each headline
+    location, the share whose every joint ends it with at least ``shift.keep`` of its
+    capacity (its 95 % bootstrap interval over workers) and the share with a joint that fails;
+    over the grid, the cells where that share reaches ``part.share``, those whose interval's
+    lower end does, and the cell of the largest share."""
+    shares_of = {joint: stacked[f"{joint}_share"] for joint in JOINTS}
+    rng = np.random.default_rng([part.bootstrap_seed, 1])  # the shifts' own resamples
+    rows, zones = [], []
+    for plan in shift.plans():
+        found = shift_outcome(shares_of, plan, shift.keep)
+        share, low, high = shares(found["kept"], rng, part.bootstrap)
+        fails = found["fails"].mean(axis=0)
+        said = {"rate_per_min": plan.rate_per_min, "hold_s": plan.hold_s, "hours": plan.hours,
+                "keep": shift.keep}
+        for i, row in named.iterrows():
+            j = grid.size + i
+            rows.append({**said, "location": row["location"], "x": row["x"], "y": row["y"],
+                         "z": row["z"], "workers": len(found["kept"]),
+                         "kept_share": share[j], "kept_low": low[j], "kept_high": high[j],
+                         "fails_share": fails[j]})
+        best = int(np.argmax(share[:grid.size]))
+        zones.append({**said, "share": part.share,
+                      "cells": int((share[:grid.size] >= part.share).sum()),
+                      "cells_sure": int((low[:grid.size] >= part.share).sum()),
+                      "best_share": share[best],
+                      **dict(zip(("best_x", "best_y", "best_z"), grid.point(best), strict=True))})
+    return pd.DataFrame(rows).round(4), pd.DataFrame(zones).round(4)
+
+
 def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False) -> bool:
     part = config.accommodation
 
@@ -109,8 +155,10 @@ def run(config: StudyConfig, results: Path, engine: Engine, force: bool = False)
         zone = pd.DataFrame(zone_rows(cells, grid, part,
                                       named.loc[named["location"] == RECOMMENDED,
                                                 ["x", "y", "z"]].to_numpy(float)[0]))
+        over_shift, shift_zone = workforce_shifts(stacked, config.shift, grid, named, part)
         for name, frame in (("cells", cells), ("locations", at), ("zone", zone),
-                            ("workers", workers)):
+                            ("workers", workers), ("shift", over_shift),
+                            ("shift_zone", shift_zone)):
             atomic_write_csv(frame, folder / f"{name}.csv")
         return {"grid": grid.describe(), "workers": len(table)}
 

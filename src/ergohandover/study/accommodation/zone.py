@@ -23,13 +23,16 @@ from ...ergonomics.posture import POSTURE_COLUMNS
 from ...robustness.measured_error import MEASURED_ERROR
 from ...robustness.posture_error import measured_alike
 from ...twin.evaluate import Evaluator, evaluate_arrays
+from ...workload.strength import load_shares
 
 
 def accommodated(job: tuple) -> dict[str, np.ndarray]:
     """One worker at every point: ``feasible``, ``reba`` and ``rula`` (error-free; -1 where
-    infeasible), ``exact`` (both within the limits, error-free) and ``chance`` (the share of
-    measured postures within them). ``job`` is (evaluator, points, reba_max, rula_max, draws,
-    seed sequence)."""
+    infeasible), ``exact`` (both within the limits, error-free), ``chance`` (the share of
+    measured postures within them) and each joint's load as a share of its strength
+    (``shoulder_share``, ``elbow_share``, ``trunk_share``: the box in the hands,
+    :func:`~ergohandover.workload.strength.load_shares`; NaN where infeasible). ``job`` is
+    (evaluator, points, reba_max, rula_max, draws, seed sequence)."""
     evaluator, points, reba_max, rula_max, draws, seed = job
     evaluator: Evaluator
     rows = evaluate_arrays(points, evaluator)
@@ -47,6 +50,9 @@ def accommodated(job: tuple) -> dict[str, np.ndarray]:
     out["reba"][feasible], out["rula"][feasible] = exact["reba"], exact["rula"]
     out["exact"][feasible] = (exact["reba"] <= reba_max) & (exact["rula"] <= rula_max)
     out["chance"][feasible] = within.reshape(n, draws).mean(axis=1)
+    for joint, share in load_shares(posture, evaluator.body).items():
+        out[f"{joint}_share"] = np.full(len(points), np.nan, np.float32)
+        out[f"{joint}_share"][feasible] = share
     return out
 
 
