@@ -11,14 +11,15 @@ answers it."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
 import people_tables
 import personalise_tables
 import robustness_verdicts
+import shift_tables
 import stance_tables
+from headline_types import Headline, exact_interval, pct
 from learning_tables import CEILING, verdicts
 from population_tables import planned_sex
 from readme_blocks import rewrite
@@ -33,53 +34,6 @@ MINIMUM_VARIANTS = {
     "effort free share 7.9% (sustained holds)": "when 7.9 % of its effort is free (sustained "
                                                 "holds)"}
 """The sensitivity variants whose minimum differs from the default's, as the row names them."""
-
-
-@dataclass(frozen=True)
-class Headline:
-    """One README row.
-
-    Attributes:
-        question: the study question that answers it (its registry name).
-        label: the row's label, linking to ``anchor`` in docs/report.md.
-        paper: what the paper claims, or "not studied".
-        claim: what the study measured.
-        n: how many (workers, runs, starts, locations...).
-        uncertainty: the interval, or what makes the figure exact.
-        baseline: what a user gets without the tool's answer, with its figure.
-        reverses: each condition under which the claim reverses or vanishes.
-        none_because: why the results hold no reversing condition (when ``reverses`` is empty).
-        files: the results files its figures come from.
-    """
-
-    question: str
-    label: str
-    anchor: str
-    paper: str
-    claim: str
-    n: str
-    uncertainty: str
-    baseline: str
-    reverses: tuple[str, ...]
-    none_because: str
-    files: tuple[str, ...]
-
-
-def exact_interval(successes: int, n: int, level: float = 0.95) -> tuple[float, float]:
-    """The exact (Clopper-Pearson) interval of a share: never degenerate at 0 or 1."""
-    from scipy.stats import beta
-
-    alpha = 1 - level
-    low = 0.0 if successes == 0 else float(beta.ppf(alpha / 2, successes, n - successes + 1))
-    high = 1.0 if successes == n else float(beta.ppf(1 - alpha / 2, successes + 1,
-                                                      n - successes))
-    return low, high
-
-
-def pct(value: float) -> str:
-    """A share in percent as the rows write it: ``64 %``, ``99.6 %`` near a bound."""
-    text = f"{100 * value:.1f}" if 0.99 < value < 1 or 0 < value < 0.01 else f"{100 * value:.0f}"
-    return f"{text} %"
 
 
 def beaten_starts(results: Path, stance: str = "step") -> dict[str, int]:
@@ -366,7 +320,8 @@ def headlines(results: Path) -> list[Headline]:
     return [*landscape_rows(results), *learning_rows(results), *robot_rows(results),
             *participant_rows(results), *population_rows(results),
             *robustness_rows(results), *stance_rows(results), *people_rows(results),
-            *personalise_rows(results), *accommodation_rows(results)]
+            *personalise_rows(results), *accommodation_rows(results),
+            *shift_tables.shift_rows(results)]
 
 
 def fitted(parts: list[str], limit: int = CELL, more: str = "") -> str:

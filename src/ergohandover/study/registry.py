@@ -98,8 +98,9 @@ QUESTIONS = (
         "cells.csv": (), "locations.csv": (), "zone.csv": (), "workers.csv": (),
         "shift.csv": (), "shift_zone.csv": ()}, 300, True,
         "fig_accommodation"),
-    Question("shift", ("population",), {"reference.csv": (), "curves.csv": (),
-                                         "locations.csv": ()}, 120, False, "fig_shift"),
+    Question("shift", ("population", "robustness"), {
+        "reference.csv": (), "curves.csv": (), "locations.csv": (), "trace.csv": ()}, 120,
+             False, "fig_shift"),
 )
 """Every question, in the order ``run_all`` runs them all (each after what it needs)."""
 

@@ -247,3 +247,15 @@ def shift(load, joint: str, plan: Shift = Shift()) -> ShiftOutcome:
     return ShiftOutcome((failed_at / 60.0).reshape(shape),
                         np.where(alive, 1.0 - tl * mf[-1], np.nan).reshape(shape),
                         np.where(alive, 1.0 - tl * mf.max(), np.nan).reshape(shape))
+
+
+def capacity_over_shift(load: float, joint: str, plan: Shift = Shift()) -> np.ndarray:
+    """(N + 1,) what the joint can give, 1 − MF, before each of the shift's N handovers at
+    ``load`` (share of strength) and at its end; NaN from the handover in which it fails."""
+    _, mf, _ = _per_unit_load(joint, plan)
+    tl = max(float(load), 0.0)
+    capacity = 1.0 - tl * mf
+    failed = float(shift(tl, joint, plan).failure_min)
+    if math.isfinite(failed):
+        capacity[int(failed * 60.0 // plan.cycle_s) + 1:] = np.nan
+    return capacity
