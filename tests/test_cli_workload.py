@@ -67,6 +67,11 @@ def test_scoring_the_evaluation_gives_its_workload_again(evaluated, tmp_path):
     (["--lift-duration", "shift"], r"--lift-duration shift"),
     (["--manikin", "f05", "--percentile", "p50-male"], r"--manikin f05 and --percentile"),
     (["--manikin", "f10"], r"--manikin f10"),
+    (["--rate", "-1"], r"--rate -1: must be > 0"),
+    (["--hold", "0"], r"--hold 0: must be > 0"),
+    (["--shift-hours", "30"], r"--shift-hours 30"),
+    (["--rate", "10", "--hold", "8"], r"--hold 8 is not allowed with --rate 10: a handover "
+                                      r"every 6 s leaves no rest"),
 ])
 def test_bad_task_or_body_flags_exit_2_with_one_line_and_write_nothing(tmp_path, args,
                                                                        message):
@@ -90,9 +95,37 @@ def test_a_location_below_the_floor_is_refused_before_scoring(tmp_path):
     assert not (tmp_path / "s.csv").exists()
 
 
+def test_a_shift_is_the_same_through_evaluate_and_score_and_a_harder_one_keeps_less(
+        evaluated, tmp_path):
+    from ergohandover.workload.strength import JOINTS
+
+    folder, table = evaluated
+    shift = [c for c in table.columns if c.endswith(("_load_share", "_capacity_end",
+                                                     "_failure_min")) or c.startswith("lifft")]
+    assert len(shift) == 3 * len(JOINTS) + 4
+    harder = tmp_path / "harder.csv"
+    assert run_cli("evaluate", "--points", str(folder / "points.csv"), "--output", str(harder),
+                   "--manikin", "f05", "--rate", "6", "--hold", "8").returncode == 0
+    harder = pd.read_csv(harder)
+    # The load is the posture's: the same at any rate; what it leaves is less.
+    assert np.allclose(harder["shoulder_load_share"], table["shoulder_load_share"])
+    kept = harder["shift_capacity_end"].fillna(0.0)
+    assert (kept <= table["shift_capacity_end"]).all() and (kept < table[
+        "shift_capacity_end"]).any()
+    assert (harder["lifft_dose"] > table["lifft_dose"]).all()  # more handovers in the day
+    scored = tmp_path / "scored.csv"
+    assert run_cli("score", "--input", str(folder / "evaluation.csv"), "--output", str(scored),
+                   "--manikin", "f05", "--rate", "6", "--hold", "8").returncode == 0
+    scored = pd.read_csv(scored)
+    for column in shift:
+        assert np.allclose(scored[column], harder[column], rtol=1e-9, equal_nan=True), column
+
+
 def test_workload_flags_need_the_posture_columns():
     done = run_cli("score", "--items", "-", "--manikin", "f05", stdin="reba_trunk\n1\n")
     assert done.returncode == 2 and "--manikin cannot be used with --items" in done.stderr
+    done = run_cli("score", "--items", "-", "--rate", "4", stdin="reba_trunk\n1\n")
+    assert done.returncode == 2 and "--rate cannot be used with --items" in done.stderr
 
 
 def page_values(html: str) -> list[dict[str, str]]:
@@ -131,6 +164,8 @@ def test_the_report_agrees_with_evaluate(reported, tmp_path):
     text = pd.read_csv(reported / "report.csv")
     for column in ("reba", "rula", "owas", "paper_postural"):
         assert text[column].tolist() == evaluation[column].tolist()
+    assert text["shift_capacity_end"].tolist() == evaluation["shift_capacity_end"].round(
+        3).tolist()
     assert text["niosh_li"].tolist() == evaluation["niosh_li"].round(2).tolist()
     assert text["back_compression_n"].tolist() == evaluation["back_compression_n"].round(
         0).tolist()

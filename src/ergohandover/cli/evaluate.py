@@ -26,10 +26,12 @@ from .options import (
     add_evaluator_arguments,
     add_gui_argument,
     add_lift_arguments,
+    add_shift_arguments,
     add_workers_argument,
     evaluator_from_args,
     lift_from_args,
     run_folder,
+    shift_from_args,
     writable,
 )
 from .values import REACH_M, beyond_reach, output_file, output_folder
@@ -40,7 +42,10 @@ frame, metres; x to the worker's right, y up, z forward) the twin grips both han
 posture, feasibility ({', '.join(REASONS)}) and every score are written to
 --output (the Evaluation CSV, whose columns docs/architecture.md lists under "File contracts";
 scores are empty where infeasible), then OWAS, the revised NIOSH lifting equation for a lift
-from the box's location to --lift-destination, and the static back load (docs/workload.md)."""
+from the box's location to --lift-destination, the static back load, and a shift of such
+handovers (--rate, --hold, --shift-hours): each joint's load as a share of its strength, when it
+first fails and what it keeps at the shift's end, and the low back's daily dose
+(docs/workload.md)."""
 
 LOCATION = "a finite coordinate in metres"
 POINTS_HELP = "box locations: columns x, y, z [m], worker frame; - for stdin"
@@ -58,6 +63,7 @@ def add_parser(subparsers) -> None:
                         "runs/evaluate/<timestamp>/evaluation.csv)")
     add_evaluator_arguments(parser)
     add_lift_arguments(parser)
+    add_shift_arguments(parser)
     parser.add_argument("--render", metavar="DIR", type=output_folder,
                         help="also write one PNG per point into DIR (created if needed)")
     add_gui_argument(parser, "the first point: the worker in its solved posture holding the box "
@@ -111,19 +117,21 @@ def show_in_window(evaluator: Evaluator, location: np.ndarray, q: np.ndarray, ro
 def run(args: argparse.Namespace) -> int:
     if args.gui:  # before any work: without a display nothing is computed or written
         require_display("--gui")
-    from ..workload import Levers, workload_table
+    from ..workload import Levers, shift_table, workload_table
 
     evaluator = evaluator_from_args(args)
     lift = lift_from_args(args)
+    plan = shift_from_args(args)
     points = read_points(args.points)
     with tqdm(total=len(points), unit="loc", desc="evaluate", file=sys.stderr,
               disable=len(points) < 2000) as bar:
         table = evaluate(points, evaluator, workers=args.workers, progress=bar.update,
                          joints=args.render is not None or args.gui)
     output = args.output or str(run_folder("evaluate") / "evaluation.csv")
-    # OWAS, the lifting equation and the back load where the twin holds the box.
-    work = workload_table(table, Levers.of(evaluator.body), lift,
-                          rows=table["feasible"].to_numpy(dtype=bool))
+    # OWAS, the lifting equation, the back load and the shift where the twin holds the box.
+    taken = table["feasible"].to_numpy(dtype=bool)
+    work = workload_table(table, Levers.of(evaluator.body), lift, rows=taken)
+    work = pd.concat([work, shift_table(table, evaluator.body, plan, rows=taken)], axis=1)
     table = pd.concat([table, work], axis=1)
     # The Evaluation CSV, how far the feet stepped for a worker who may step, the workload.
     columns = [*EVALUATION_COLUMNS, *(["step_m"] if "step_m" in table else []), *work.columns]

@@ -171,6 +171,36 @@ def lift_from_args(args: argparse.Namespace):
     return dataclass_from_args(LiftTask, args)
 
 
+def add_shift_arguments(parser: argparse.ArgumentParser) -> None:
+    """The shift of handovers whose fatigue the shift columns give (docs/workload.md)."""
+    from ..workload.fatigue import Shift
+
+    group = parser.add_argument_group("a shift of handovers (the three-compartment fatigue "
+                                      "model; docs/workload.md)")
+    group.add_argument("--rate", type=number(0, None, "a minute", above=True),
+                       default=Shift.rate_per_min, metavar="PER_MIN",
+                       help=f"handovers a minute (default: {Shift.rate_per_min:g})")
+    group.add_argument("--hold", type=number(0, None, "s", above=True), default=Shift.hold_s,
+                       metavar="S", help="seconds each handover loads the joints, below the "
+                       f"cycle of 60/--rate s (default: {Shift.hold_s:g})")
+    group.add_argument("--shift-hours", type=number(0, 24, "h", above=True),
+                       default=Shift.hours, metavar="H",
+                       help=f"the shift's length (default: {Shift.hours:g})")
+
+
+def shift_from_args(args: argparse.Namespace):
+    """The Shift the shift flags describe; a hold that leaves no rest before the next handover
+    is refused in one line naming both flags."""
+    from ..workload.fatigue import Shift
+
+    cycle = 60.0 / args.rate
+    if args.hold >= cycle:
+        raise InputError(f"--hold {args.hold:g} is not allowed with --rate {args.rate:g}: a "
+                         f"handover every {cycle:g} s leaves no rest (a hold below {cycle:g} s, "
+                         f"or --rate below {60.0 / args.hold:g})")
+    return Shift(args.rate, args.hold, args.shift_hours)
+
+
 def add_task_arguments(parser: argparse.ArgumentParser) -> None:
     """One flag per :class:`~ergohandover.twin.task.TaskSpec` field: the box and ``--gaze``
     (whose default is the study's)."""

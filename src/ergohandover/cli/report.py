@@ -17,9 +17,11 @@ from ..study.script import ROOT
 from .options import (
     add_evaluator_arguments,
     add_lift_arguments,
+    add_shift_arguments,
     evaluator_from_args,
     lift_from_args,
     run_folder,
+    shift_from_args,
 )
 from .values import BadValue, beyond_reach, output_folder
 
@@ -29,7 +31,9 @@ DESCRIPTION = """\
 Write a one-page report per handover location — what a practitioner files: the twin holding
 the box there (its picture), REBA, RULA, OWAS and the paper's score with their items, the revised
 NIOSH lifting equation for a lift from there to --lift-destination, the static L5/S1 load and
-strength, and the share of the study's workforce the location suits (results/accommodation).
+strength, a shift of such handovers (--rate, --hold, --shift-hours: each joint's capacity at the
+shift's end, the low back's daily dose), and the share of the study's workforce the location
+suits (results/accommodation).
 Writes report.html (one page per location, printable), report.csv (every number on the pages,
 as shown) and, with --pdf, report.pdf printed by headless Chromium. docs/workload.md."""
 
@@ -68,6 +72,7 @@ def add_parser(subparsers) -> None:
                         help="also print report.pdf with headless Chromium")
     add_evaluator_arguments(parser)
     add_lift_arguments(parser)
+    add_shift_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -121,20 +126,22 @@ def run(args: argparse.Namespace) -> int:
     from ..twin.evaluate import EVALUATION_COLUMNS, evaluate
     from ..viewer.chromium import chromium, print_pdf
     from ..viewer.report_page import PAGE_COLUMNS, report_page, shown
-    from ..workload import Levers, workload_table
+    from ..workload import Levers, shift_table, workload_table
     from ..workload.flags import LIFTING_INDEX_SCOPE, flag_column, flags
 
     # Every check before any work: what to report, on whom, and that the PDF can be printed.
     evaluator = evaluator_from_args(args)
     lift = lift_from_args(args)
+    plan = shift_from_args(args)
     named = named_locations(args)
     if args.pdf:
         chromium()
     output = args.output or run_folder("report")
     points = named[["x", "y", "z"]].to_numpy(float)
     table = evaluate(points, evaluator, joints=True)
-    work = workload_table(table, Levers.of(evaluator.body), lift,
-                          rows=table["feasible"].to_numpy(dtype=bool))
+    taken = table["feasible"].to_numpy(dtype=bool)
+    work = workload_table(table, Levers.of(evaluator.body), lift, rows=taken)
+    work = pd.concat([work, shift_table(table, evaluator.body, plan, rows=taken)], axis=1)
     share, notes = workforce_share(args.results, named)
     rows = pd.concat([named[["location"]], table, work, share], axis=1)
     body = evaluator.body
@@ -144,7 +151,11 @@ def run(args: argparse.Namespace) -> int:
              f"at {lift.lift_destination:g} m (revised NIOSH equation, Waters et al. 1993). "
              "Back: static sagittal model, 5 cm erector arm; limits 3,400 N and 6,400 N "
              f"(NIOSH 1981); % capable assumes strength CV 0.277. Note: {LIFTING_INDEX_SCOPE}.",
-             *notes]
+             f"Shift: {plan.handovers:,} handovers ({plan.rate_per_min:g} a minute, each held "
+             f"{plan.hold_s:g} s, over {plan.hours:g} h); capacity, what a joint can still give "
+             "(three-compartment fatigue model, Frey-Law et al. 2012); strength: Harbo et al. "
+             "2012 at an assumed age of 40, the twin's for the low back; LiFFT: Gallagher et al. "
+             "2017.", *notes]
     with tempfile.TemporaryDirectory(prefix=".report-", dir=nearest_existing(output)) as tmp:
         tmp = Path(tmp)
         render_points(table, points, evaluator, tmp / "pictures")

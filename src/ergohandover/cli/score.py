@@ -20,11 +20,13 @@ from .options import (
     add_body_arguments,
     add_dataclass_arguments,
     add_lift_arguments,
+    add_shift_arguments,
     body_from_args,
     dataclass_from_args,
     lift_from_args,
     model_flags,
     run_folder,
+    shift_from_args,
     writable,
 )
 from .parser import given
@@ -169,6 +171,7 @@ def add_parser(subparsers) -> None:
     # With --input: the body whose segments the back load weighs, and the lift.
     add_body_arguments(parser)
     add_lift_arguments(parser)
+    add_shift_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -184,12 +187,14 @@ def run(args: argparse.Namespace) -> int:
                          "smpl24 or bvh)")
     if args.input is None:
         workload = [f for f in (*model_flags(), "lift_frequency", "lift_duration",
-                                "lift_destination") if f in flags]
+                                "lift_destination", "rate", "hold", "shift_hours")
+                    if f in flags]
         if workload:
             raise InputError(f"--{workload[0].replace('_', '-')} cannot be used with "
                              f"--{'keypoints' if args.keypoints else 'items'} (only with "
                              "--input: the workload columns need every angle)")
     settings = dataclass_from_args(ScoringSettings, args)
+    plan = shift_from_args(args)
     if args.keypoints is not None:
         table, what = keypoint_scores(args, settings)
     elif args.items is not None:
@@ -198,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
         name = "standard input" if args.input == "-" else args.input
         text, posture = read_postures(args.input, what=name)
         scores = pd.DataFrame(score_postures(posture, settings))
-        work = input_workload(text, posture, args)
+        work = input_workload(text, posture, args, plan)
         passthrough = text.drop(columns=[c for c in text.columns
                                          if c in SCORE_COLUMNS or c in work.columns])
         table = pd.concat([passthrough, scores, work], axis=1)
@@ -213,10 +218,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace) -> pd.DataFrame:
-    """OWAS, the back load of the body the flags describe and, where the file gives the box's
-    location (``x, y, z``, worker frame), the lifting equation."""
-    from ..workload import Levers, workload_table
+def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace,
+                   plan) -> pd.DataFrame:
+    """OWAS, the back load of the body the flags describe, a shift of handovers (``plan``)
+    at each posture and, where the file gives the box's location (``x, y, z``, worker frame),
+    the lifting equation."""
+    from ..workload import Levers, shift_table, workload_table
 
     table = pd.DataFrame({name: posture[name] for name in posture})
     located = [c for c in ("x", "y", "z") if c in text.columns]
@@ -232,7 +239,9 @@ def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace) -> pd.
             raise InputError(f"{args.input}: row {bad[0] + 1}, column '{c}': "
                              f"{text[c].iloc[bad[0]]} is not allowed (expected {allowed[c]})")
         table[c] = values
-    return workload_table(table, Levers.of(body_from_args(args)), lift_from_args(args))
+    body = body_from_args(args)
+    return pd.concat([workload_table(table, Levers.of(body), lift_from_args(args)),
+                      shift_table(table, body, plan)], axis=1)
 
 
 def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings

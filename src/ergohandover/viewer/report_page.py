@@ -30,12 +30,16 @@ LIFT_ITEMS = ("niosh_h_cm", "niosh_v_cm", "niosh_d_cm", "niosh_a_deg", "niosh_hm
               "niosh_li")
 BACK_ITEMS = ("back_moment_nm", "back_compression_n", "back_shear_n", "back_strength_share",
               "back_capable_pct", "shoulder_moment_nm", "elbow_moment_nm")
+SHIFT_ITEMS = ("shift_capacity_end", "shift_failure_min", "shoulder_load_share",
+               "shoulder_capacity_end", "elbow_load_share", "elbow_capacity_end",
+               "trunk_load_share", "trunk_capacity_end", "lifft_dose", "lifft_high_risk")
 ACCOMMODATION_ITEMS = ("exact_share", "exact_low", "exact_high", "measured_share",
                        "measured_low", "measured_high")
 HEADLINE = ("reba", "rula", "owas", "paper_postural", "niosh_li", "back_compression_n",
             "measured_share")
 PAGE_COLUMNS = tuple(dict.fromkeys((*HEADLINE, *REBA_ITEMS, *RULA_ITEMS, *OWAS_ITEMS,
-                                    *LIFT_ITEMS, *BACK_ITEMS, *ACCOMMODATION_ITEMS)))
+                                    *LIFT_ITEMS, *BACK_ITEMS, *SHIFT_ITEMS,
+                                    *ACCOMMODATION_ITEMS)))
 """Every column a page shows, in page order."""
 LABELS = {
     "niosh_h_cm": "H, horizontal [cm]", "niosh_v_cm": "V, hand height [cm]",
@@ -49,11 +53,19 @@ LABELS = {
     "exact_low": "  95 % interval, low", "exact_high": "  95 % interval, high",
     "measured_share": "suited, as measured", "measured_low": "  95 % interval, low",
     "measured_high": "  95 % interval, high",
+    "shift_capacity_end": "weakest joint's capacity at the end",
+    "shift_failure_min": "a joint first fails after [min]",
+    "shoulder_load_share": "shoulder load [share of strength]",
+    "shoulder_capacity_end": "  its capacity at the end", "elbow_load_share":
+    "elbow load [share of strength]", "elbow_capacity_end": "  its capacity at the end",
+    "trunk_load_share": "low back load [share of strength]",
+    "trunk_capacity_end": "  its capacity at the end", "lifft_dose": "LiFFT daily dose",
+    "lifft_high_risk": "LiFFT high-risk probability",
 }
 DECIMALS = {"niosh_h_cm": 1, "niosh_v_cm": 1, "niosh_d_cm": 1, "niosh_a_deg": 1,
             "niosh_rwl_kg": 2, "niosh_li": 2, "back_moment_nm": 1, "back_compression_n": 0,
             "back_shear_n": 0, "back_strength_share": 3, "back_capable_pct": 1,
-            "shoulder_moment_nm": 1, "elbow_moment_nm": 1}
+            "shoulder_moment_nm": 1, "elbow_moment_nm": 1, "shift_failure_min": 1}
 """Decimals shown (and written to the CSV) per column."""
 WHOLE = ("reba", "rula", "paper_", "owas", "back_band")
 """Columns (or prefixes) of whole numbers: scores, items, codes, bands."""
@@ -122,7 +134,8 @@ def report_page(row: Mapping, title: str, subtitle: str, picture: bytes | None,
         f"<div><h2>REBA items</h2>{_rows(row, REBA_ITEMS)}</div>",
         f"<div><h2>RULA items</h2>{_rows(row, RULA_ITEMS)}"
         f"<h2>OWAS code</h2>{_rows(row, OWAS_ITEMS)}</div>",
-        f"<div><h2>Revised NIOSH lifting equation</h2>{_rows(row, LIFT_ITEMS)}</div>",
+        f"<div><h2>Revised NIOSH lifting equation</h2>{_rows(row, LIFT_ITEMS)}"
+        f"<h2>Over a shift of handovers</h2>{_rows(row, SHIFT_ITEMS)}</div>",
         f"<div><h2>Back load and strength</h2>{_rows(row, BACK_ITEMS)}"
         f"<h2>The study's workforce at this location</h2>{_rows(row, ACCOMMODATION_ITEMS)}"
         "</div></div>",

@@ -57,6 +57,27 @@ def workload_table(table: pd.DataFrame, levers: Levers, lift: LiftTask | None = 
     return pd.DataFrame(out, index=table.index)
 
 
+def shift_table(table: pd.DataFrame, body, plan, rows: np.ndarray | None = None
+                ) -> pd.DataFrame:
+    """A shift of handovers (``plan``: a :class:`~.fatigue.Shift`) at each posture of a table
+    with the Posture columns, for ``body`` (its strength): each joint's load share, first
+    failure and capacity at the end, the shift's, and the low back's daily dose
+    (:func:`~.strength.shift_columns`); only at ``rows`` (every row if omitted), empty
+    elsewhere."""
+    from .strength import shift_columns
+
+    rows = np.ones(len(table), dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
+    chosen = table[rows]
+    posture = Posture({c: chosen[c].to_numpy(dtype=float) for c in POSTURE_COLUMNS
+                       if c in chosen})
+    out = {}
+    for name, values in shift_columns(posture, body, plan).items():
+        column = pd.Series(np.nan, index=table.index, dtype=float)
+        column[rows] = values
+        out[name] = column
+    return pd.DataFrame(out, index=table.index)
+
+
 __all__ = [
     "WORKLOAD_COLUMNS",
     "Levers",
@@ -65,6 +86,7 @@ __all__ = [
     "back_load",
     "lift_at",
     "owas",
+    "shift_table",
     "workload",
     "workload_table",
 ]

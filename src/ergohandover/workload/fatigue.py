@@ -113,9 +113,11 @@ class Shift:
     """Handovers repeated over a shift.
 
     Attributes:
-        rate_per_min: handovers per minute.
-        hold_s: how long each handover loads the joints [s].
-        hours: the shift's length [h].
+        rate_per_min: handovers per minute. Default 1: the lightest rate the study covers (a
+            station handing over one part a minute; study/shift/config.py).
+        hold_s: how long each handover loads the joints [s]. Default 3: a brisk hand-off, the
+            robot letting go as the worker grips (the study also holds 8 s).
+        hours: the shift's length [h]. Default 8: a working day.
     """
 
     rate_per_min: float = 1.0
