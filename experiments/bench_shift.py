@@ -59,7 +59,7 @@ def main() -> None:
         shift_columns(posture, evaluator.body, plan)
         took = time.perf_counter() - start
         print(f"shift at {rate:g} a minute, {args.hold:g} s holds ({plan.handovers:,} handovers): "
-              f"{took:.2f} s, {took / solve:.2f} x the posture solve (target: at most 1)")
+              f"{1e3 * took:.1f} ms, {took / solve:.3f} x the posture solve (target: at most 1)")
 
 
 if __name__ == "__main__":
