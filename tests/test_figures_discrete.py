@@ -48,6 +48,7 @@ SCRIPTS = {
     "fig_capture": {"capture_accuracy.png": 0},
     "fig_people": {"people_angles.png": 0, "people_locations.png": 1},
     "fig_accommodation": {"accommodation.png": 0},
+    "fig_shift": {"shift_reference.png": 0, "shift_capacity.png": 0},
 }
 # Texts that state a share as its column holds it (targets.csv fraction: of the grid;
 # stats.csv feasible_fraction: the feasible points' share of the grid).

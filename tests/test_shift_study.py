@@ -73,3 +73,44 @@ def test_the_shift_locations_compare_the_posture_optimum_with_the_shifts_best():
     optimum = table[(table["location"] == "posture-optimal") & (table["hold_s"] == 3.0)]
     assert (np.diff(optimum.sort_values("rate_per_min")["shift_capacity_end"].fillna(-1)) <= 0
             ).all()
+
+
+def test_the_trace_ends_where_the_locations_table_says():
+    trace = pd.read_csv(SHIFT / "trace.csv")
+    table = pd.read_csv(SHIFT / "locations.csv")
+    assert {"posture-optimal"} < set(trace["location"])
+    assert {n for n in trace["location"] if n != "posture-optimal"} == {
+        n for n in table["location"] if n.startswith("shortest distance")}
+    for (rate, hold, where, joint), curve in trace.groupby(
+            ["rate_per_min", "hold_s", "location", "joint"]):
+        row = table[(table["rate_per_min"] == rate) & (table["hold_s"] == hold)
+                    & (table["location"] == where)].iloc[0]
+        curve = curve.sort_values("minute")
+        assert curve["minute"].iloc[-1] == 60 * row["hours"]
+        end = row[f"{joint}_capacity_end"]
+        if np.isnan(end):  # the joint failed: its curve stops there, within a cycle
+            failed, cycle = row[f"{joint}_failure_min"], 1 / rate
+            assert curve.loc[curve["minute"] < failed - cycle, "capacity"].notna().all()
+            assert curve.loc[curve["minute"] > failed + cycle, "capacity"].isna().all()
+            assert curve["capacity"].isna().iloc[-1]
+        else:
+            assert curve["capacity"].iloc[-1] == pytest.approx(end)
+            assert (curve["capacity"].to_numpy() >= end - 1e-9).all()  # it only falls
+
+
+def test_the_workforce_over_a_shift_is_a_share_with_its_interval_and_harder_shifts_serve_fewer():
+    table = pd.read_csv(ROOT / "results" / "accommodation" / "shift.csv")
+    zone = pd.read_csv(ROOT / "results" / "accommodation" / "shift_zone.csv")
+    part = StudyConfig().shift
+    plans = {(p.rate_per_min, p.hold_s) for p in part.plans()}
+    assert set(zip(table["rate_per_min"], table["hold_s"], strict=True)) == plans
+    assert set(zip(zone["rate_per_min"], zone["hold_s"], strict=True)) == plans
+    assert (table["keep"] == part.keep).all() and (table["workers"] == 1000).all()
+    assert ((table["kept_low"] <= table["kept_share"]) & (table["kept_share"]
+                                                          <= table["kept_high"])).all()
+    assert (table["kept_share"] + table["fails_share"] <= 1 + 1e-9).all()
+    for _, rows in table.groupby(["location", "hold_s"]):
+        rows = rows.sort_values("rate_per_min")
+        assert (np.diff(rows["kept_share"]) <= 1e-9).all()  # more handovers never keep more
+    for _, rows in zone.groupby("hold_s"):
+        assert (np.diff(rows.sort_values("rate_per_min")["cells"]) <= 0).all()
