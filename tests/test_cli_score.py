@@ -15,6 +15,7 @@ from ergohandover.cli import main
 from ergohandover.ergonomics import MAIN_SCORE_COLUMNS, SCORE_COLUMNS
 from ergohandover.workload.back import COLUMNS as BACK_COLUMNS
 from ergohandover.workload.owas import COLUMNS as OWAS_COLUMNS
+from ergohandover.workload.strength import SHIFT_COLUMNS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "postures.csv"
 
@@ -26,9 +27,10 @@ def test_scores_the_example_and_keeps_every_input_column(tmp_path):
     assert main(["score", "--input", str(EXAMPLE), "--output", str(out)]) == 0
     table = pd.read_csv(out)
     source = pd.read_csv(EXAMPLE)
-    # Then OWAS and the back load (no lifting columns: the file gives no box location).
+    # Then OWAS, the back load (no lifting columns: the file gives no box location) and the
+    # shift.
     assert list(table.columns) == [*source.columns, *SCORE_COLUMNS, *OWAS_COLUMNS,
-                                   *BACK_COLUMNS]
+                                   *BACK_COLUMNS, *SHIFT_COLUMNS]
     pd.testing.assert_frame_equal(table[source.columns], source)
     assert table["reba"].tolist() == [1, 9, 9]
     assert table["rula"].tolist() == [3, 7, 7]
@@ -45,7 +47,7 @@ def test_stdin_to_stdout_through_the_console_entry():
                             text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.strip().splitlines()
-    assert len(lines) == 4 and lines[0].endswith(BACK_COLUMNS[-1])
+    assert len(lines) == 4 and lines[0].endswith(SHIFT_COLUMNS[-1])
 
 
 def test_settings_flags_change_the_scores(tmp_path):

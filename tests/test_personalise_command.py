@@ -366,7 +366,7 @@ def test_a_repeated_proposal_is_told_the_known_answer_and_costs_no_trial(tmp_pat
     resumed = Session.open(tmp_path / "state.json", {"searcher": "cycle"})
     again = resumed.resume(Cycle(grid))  # answers the repeat again: the same next proposal
     assert again.told == searcher.told and again.ask() == 3
-    assert resumed.best().trial == 3
+    assert resumed.best().trial.trial == 3
     # A state file that lists the repeat (trial null) reads the same.
     state = json.loads((tmp_path / "state.json").read_text())
     state["history"].insert(2, {**state["history"][0], "trial": None})

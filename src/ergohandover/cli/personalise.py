@@ -72,10 +72,11 @@ The state is saved after every answer (--state): a session stopped before its en
 it stopped when the same command is run again (with --output or --state; without them, the
 command names the folder to resume from). Standard input ending pauses it with exit code {PAUSED};
 Ctrl-C and kill stop it with 130 and 143, every answer kept.
-At the end: the recommended location (the lowest score observed, the earliest of equals; with
-pairwise answers, the one the preference model prefers; the fitted twin also prints where its
-model expects the worker's optimum, the probability it gives that, and the score it expects
-there against the prior's location, where a site hands over without searching), the trials
+At the end: the recommended location, from the searcher's model (the fitted twin's: where it
+expects the worker's optimum, with the probability it gives that and the score it expects there
+against the prior's location, where a site hands over without searching; with pairwise answers,
+the one the preference model prefers; any other searcher's: the tried location a model of its
+answers expects lowest, never the lowest single reading), the trials
 used and why the session ended, and how sure the recommendation is; trials.csv,
 recommendation.csv and manifest.json are written into --output (default: a new
 runs/personalise/<timestamp>/). See docs/personalise.md."""

@@ -29,16 +29,21 @@ def report(args, session, best, stopped: str, sure: dict) -> None:
         return
     if args.answers == "pairwise":
         print(f"recommended: hand the box at {in_cm(best.location)}: the handover preferred "
-              f"most (trial {best.trial}); {ending(args, session, stopped)}", flush=True)
+              f"most (trial {best.trial.trial}); {ending(args, session, stopped)}", flush=True)
         chance = sure["p_best_of_tried"]
         said = ("no comparison was made" if chance is None else
                 f"the preference model gives it a {chance:.0%} chance of being the best of the "
                 f"{sure['feasible_tried']} feasible locations tried")
         print(f"uncertainty: {said}", flush=True)
         return
-    print(f"recommended: hand the box at {in_cm(best.location)}: {args.objective} "
-          f"{best.score:g}, observed at trial {best.trial}; {ending(args, session, stopped)}",
-          flush=True)
+    seen = (f"{args.objective} {best.score:g}, observed at trial {best.trial.trial}"
+            if best.trial is not None else "its model's optimum, not handed over there yet")
+    print(f"recommended: hand the box at {in_cm(best.location)}: {seen}; "
+          f"{ending(args, session, stopped)}", flush=True)
+    if "p_optimal" in sure:
+        print(f"uncertainty: its model gives it a {sure['p_optimal']:.0%} probability of being "
+              "this worker's optimum", flush=True)
+        return
     close = sure["within_1_of_it"]
     why = " (one answer is one measurement: with measurement error any may be as good)"
     print(f"uncertainty: {close} of the {sure['feasible_tried'] - 1} other feasible locations "
@@ -61,8 +66,10 @@ def write_outputs(args, session, best, stopped: str, output: Path, settings: dic
     summary = {"trials_used": len(session.trials), "ended_by": stopped, "recommendation": None}
     if best is not None:
         x, y, z = best.location
+        seen = best.trial is not None and not pairwise
         row = {"x": x, "y": y, "z": z, "objective": args.objective,
-               "score": None if pairwise else best.score, "trial": best.trial,
+               "score": best.score if seen else None,
+               "trial": None if best.trial is None else best.trial.trial,
                "trials_used": len(session.trials), "answers": args.answers, **sure}
         paths.append(atomic_write_csv(pd.DataFrame([row]), output / "recommendation.csv"))
         summary["recommendation"] = row

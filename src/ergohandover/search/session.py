@@ -48,6 +48,23 @@ VERSION = 1
 TRIAL_COLUMNS = ("trial", "x", "y", "z", "feasible", "score", "answer", "answered_at")
 
 
+@dataclass(frozen=True)
+class Recommended:
+    """Where a session recommends handing over: the ``cell`` and its ``location`` [m], the
+    first ``trial`` there (None: not handed over there yet) and the model's probability that
+    it is the worker's optimum (NaN: the model states none)."""
+
+    cell: int
+    location: tuple[float, float, float]
+    trial: Trial | None
+    p_optimal: float = math.nan
+
+    @property
+    def score(self) -> float:
+        """The score observed there (NaN: not handed over there yet)."""
+        return self.trial.score if self.trial is not None else math.nan
+
+
 class StateError(ErgohandoverError, ValueError):
     """A state file that cannot be read as a session's state."""
 
@@ -159,26 +176,40 @@ class Session:
         """The handovers, in order."""
         return self.history
 
-    def best(self, searcher: AskTellSearcher | None = None) -> Trial | None:
-        """The trial of the lowest feasible score (the earliest of equals), or None; of a
-        searcher told preferences, the trial of the location it prefers."""
-        if searcher is not None and searcher.answers == "preferences":
-            cell = searcher.recommend().cell
-            return next((r for r in self.trials if r.cell == cell), None)
-        feasible = [r for r in self.trials if math.isfinite(r.score)]
-        return min(feasible, key=lambda r: r.score) if feasible else None
+    def best(self, searcher: AskTellSearcher | None = None) -> Recommended | None:
+        """Where to hand over: the location ``searcher``'s model recommends
+        (:meth:`~.protocol.AskTellSearcher.recommend`: its own model of the worker, or a model
+        of its answers; never the lowest single reading), with the first trial there (None:
+        its model recommends a location not handed over at yet). Without a searcher (a state
+        file read alone), the trial of the lowest feasible score, the earliest of equals. None
+        when nothing feasible was seen."""
+        if searcher is None:
+            feasible = [r for r in self.trials if math.isfinite(r.score)]
+            if not feasible:
+                return None
+            found = min(feasible, key=lambda r: r.score)
+            return Recommended(found.cell, found.location, found)
+        model = searcher.recommend()
+        if model.cell is None:
+            return None
+        trial = next((r for r in self.trials if r.cell == model.cell
+                      and math.isfinite(r.score)), None)
+        return Recommended(model.cell, searcher.grid.point(model.cell), trial, model.p_optimal)
 
-    def uncertainty(self, best: Trial | None, searcher: AskTellSearcher) -> dict:
-        """How sure the recommendation ``best`` is, from what was observed: of a searcher told
-        preferences, its model's probability that ``best`` is the best of the feasible
-        locations tried; else how many of them scored within one point of it (one answer is
-        one measurement: any of them may be as good)."""
+    def uncertainty(self, best: Recommended | None, searcher: AskTellSearcher) -> dict:
+        """How sure the recommendation ``best`` is: of a searcher told preferences, its model's
+        probability that ``best`` is the best of the feasible locations tried; of a model that
+        states it, its probability that ``best`` is the worker's optimum; else how many of the
+        feasible locations tried scored within one point of it (one answer is one
+        measurement: any of them may be as good)."""
         if best is None:
             return {}
         feasible = [t for t in self.trials if math.isfinite(t.score)]
         if searcher.answers == "preferences":
             return {"p_best_of_tried": searcher.confidence(), "feasible_tried": len(feasible)}
-        close = sum(1 for t in feasible if t is not best and t.score <= best.score + 1)
+        if math.isfinite(best.p_optimal):
+            return {"p_optimal": best.p_optimal, "feasible_tried": len(feasible)}
+        close = sum(1 for t in feasible if t is not best.trial and t.score <= best.score + 1)
         return {"within_1_of_it": close, "feasible_tried": len(feasible)}
 
     def resume(self, searcher: AskTellSearcher) -> AskTellSearcher:

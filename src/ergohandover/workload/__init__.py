@@ -20,6 +20,7 @@ from .lifting import COLUMNS as LIFT_COLUMNS
 from .lifting import LiftError, LiftTask, lift_at
 from .owas import COLUMNS as OWAS_COLUMNS
 from .owas import owas
+from .strength import SHIFT_COLUMNS
 
 WORKLOAD_COLUMNS = (*OWAS_COLUMNS, *LIFT_COLUMNS, *BACK_COLUMNS)
 """Every column :func:`workload` gives, in order (the lifting columns only with locations)."""
@@ -79,6 +80,7 @@ def shift_table(table: pd.DataFrame, body, plan, rows: np.ndarray | None = None
 
 
 __all__ = [
+    "SHIFT_COLUMNS",
     "WORKLOAD_COLUMNS",
     "Levers",
     "LiftError",

@@ -35,6 +35,10 @@ HARBO_2012 = {
 flexion and shoulder abduction by sex (Harbo, Brincks & Andersen 2012)."""
 JOINTS = ("shoulder", "elbow", "trunk")
 """The joints whose load a handover posture gives (the fatigue model's names)."""
+SHIFT_COLUMNS = (*(f"{joint}_{kind}" for joint in JOINTS
+                   for kind in ("load_share", "failure_min", "capacity_end")),
+                 "shift_failure_min", "shift_capacity_end", "lifft_dose", "lifft_high_risk")
+"""Every column :func:`shift_columns` gives, in order."""
 
 
 def strengths_nm(body: BodySpec, age: float = AGE_YEARS) -> dict[str, float]:
