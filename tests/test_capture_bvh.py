@@ -12,11 +12,12 @@ import pytest
 from twin_postures import random_twin_postures
 
 from ergohandover.capture.angles import measure
-from ergohandover.capture.bvh import ALIASES, axis_rotation, landmark_aliases, parse_bvh, read_bvh
+from ergohandover.capture.bvh import axis_rotation, parse_bvh, read_bvh
 from ergohandover.capture.bvh_write import write_bvh, zxy_angles, zxy_matrix
 from ergohandover.capture.checks import check_keypoints
 from ergohandover.capture.placement import to_axes
 from ergohandover.capture.readers import KeypointFileError
+from ergohandover.capture.rigs import RIGS
 from ergohandover.capture.twin_bvh import twin_bvh, twin_joints
 from ergohandover.twin.anthropometry import BodySpec
 
@@ -263,7 +264,7 @@ def test_mixamo_names_lose_their_namespace(here):
                                                 "HandMiddle1", "HandIndex1", "HandPinky1",
                                                 "HandThumb1")]
         parents += [9, base, base + 1, base + 2, base + 3, base + 3, base + 3, base + 3]
-    offsets = np.array([[0, 1, 0]] * len(names), dtype=float)
+    offsets = np.random.default_rng(3).uniform(-1, 1, (len(names), 3))
     write_bvh("mixamo.bvh", names, parents, offsets, np.zeros((1, len(names), 3)),
               [[0, 0, 0]])
     kp = read_bvh("mixamo.bvh")
@@ -291,13 +292,17 @@ def test_rotation_channels_turn_in_the_order_listed(here):
     np.testing.assert_allclose(kp.points[1, 1], [1 + 2, 2, 3 + 1], atol=1e-12)
 
 
-def test_aliases_are_data_with_the_right_side_derived():
-    full = landmark_aliases()
-    assert full["right_elbow"] == ("RightForeArm", "RFArm")
-    assert full["right_thumb"] == ("RightHandThumb1", "RThumb")
-    assert full["neck_base"] == ALIASES["neck_base"]
-    for side in ("left", "right"):
-        assert f"{side}_hip" in full and f"{side}_pinky" in full
+def test_rigs_are_data_with_both_sides():
+    rigs = {rig.name: rig for rig in RIGS}
+    assert rigs["OptiTrack Motive"].landmarks["right_elbow"] == ("RFArm",)
+    assert rigs["Mixamo"].landmarks["right_thumb"] == ("RightHandThumb1",)
+    assert rigs["Blender Rigify"].landmarks["right_hip"] == ("DEF-thigh.R", "thigh.R")
+    # "LeftShoulder" is the clavicle in CMU's names, the upper arm in Xsens MVN's BVH.
+    assert rigs["CMU/Vicon"].landmarks["left_clavicle"] == ("LeftShoulder",)
+    assert rigs["Xsens MVN"].landmarks["left_shoulder"] == ("LeftShoulder",)
+    for rig in RIGS:
+        for side in ("left", "right"):
+            assert f"{side}_hip" in rig.landmarks and f"{side}_wrist" in rig.landmarks
 
 
 # -- bad files ---------------------------------------------------------------------------------
@@ -339,7 +344,9 @@ def test_bvh_frame_row_with_the_wrong_value_count(here, good_text):
 
 def test_bvh_missing_the_elbow(here, good_text):
     message = bad(good_text.replace("LeftForeArm", "LeftLowerArm"))
-    assert message == "bad.bvh: no joint for the left elbow (looked for LeftForeArm, LFArm)"
+    assert message == ("bad.bvh: no joint for the left elbow (looked for LeftForeArm: the "
+                       "Mixamo rig's name for it, whose names the file's fit best; --joint-map "
+                       "left_elbow=JOINT names it)")
 
 
 def test_bvh_channels_count_not_matching_its_names(here, good_text):

@@ -378,8 +378,9 @@ BAD = {  # case -> (tmp_path -> argv, what the line says; {file}: the file as ty
                          "of the file is, a number above 0)"),
     "bvh without an elbow": (lambda t: ["--keypoints", str(bvh(t, lambda s: s.replace(
         "LeftForeArm", "LeftLowerArm"))), "--format", "bvh", "--units", "cm"],
-                             "{file}: no joint for the left elbow (looked for LeftForeArm, "
-                             "LFArm)"),
+                             "{file}: no joint for the left elbow (looked for LeftForeArm: "
+                             "the Mixamo rig's name for it, whose names the file's fit best; "
+                             "--joint-map left_elbow=JOINT names it)"),
     "bvh frame row too long": (lambda t: ["--keypoints", str(bvh(t, longer_last_row)),
                                           "--format", "bvh", "--units", "cm"],
                                f"{{file}}: line {BVH_LINES}: frame 6 has 82 values; the "

@@ -3,11 +3,10 @@ once), without a dependency beyond numpy (the writer: :mod:`.bvh_write`).
 
 A BVH file brings its own joints, so :func:`read_bvh` builds the keypoint format from the file:
 its joints and End Sites (``<parent>_End``) in file order, y up (BVH's convention; a file in
-another frame takes ``--up``), and each landmark the first of its aliases (:data:`ALIASES`) the
-file has. The aliases cover three naming conventions: CMU's motion capture database, Mixamo
-and OptiTrack Motive. A BVH joint's position is where it rotates, so each landmark is the joint
-that turns *at* it: the hip is ``LeftUpLeg`` (the thigh turns at the hip), the knee ``LeftLeg``,
-the shoulder ``LeftArm``, the clavicle's medial end ``LeftShoulder``.
+another frame takes ``--up``), and the landmarks of the rig its names fit best (:mod:`.rigs`:
+Xsens MVN, CMU, Mixamo, Rokoko, OptiTrack Motive, Perception Neuron, Blender Rigify), each from
+a joint that does not sit on the landmark it is measured against; ``--joint-map`` names the
+landmarks of any other rig.
 
 Rotations: a joint's local rotation is the product of its rotation channels in the order the
 file lists them (intrinsic: ``R = R_first @ R_second @ R_third``), in degrees; its frame is its
@@ -18,61 +17,20 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
-from .formats import LANDMARKS, KeypointFormat
+from .formats import KeypointFormat
 from .readers import KeypointFileError, Keypoints, file_text, read_file_bytes, unit_scale
+from .rigs import RIGS, recognise, resolve
 
-ALIASES: dict[str, tuple[str, ...]] = {
-    "left_hip": ("LeftUpLeg", "LThigh"),
-    "left_knee": ("LeftLeg", "LShin"),
-    "left_ankle": ("LeftFoot", "LFoot"),
-    "spine": ("Spine1", "Spine2", "Chest", "Spine"),
-    "neck_base": ("Neck",),
-    "head_top": ("HeadTop_End", "Head_End"),
-    "left_clavicle": ("LeftShoulder", "LShoulder"),
-    "left_shoulder": ("LeftArm", "LUArm"),
-    "left_elbow": ("LeftForeArm", "LFArm"),
-    "left_wrist": ("LeftHand", "LHand"),
-    "left_hand": ("LeftHandMiddle1", "LeftFingerBase", "LeftHand_End", "LHand_End"),
-    "left_thumb": ("LeftHandThumb1", "LThumb"),
-    "left_index": ("LeftHandIndex1",),
-    "left_pinky": ("LeftHandPinky1",),
-}
-"""Landmark -> the BVH joint names that are it, in order of preference (the first the file has
-is used); the left side's, the right side's follow by ``Left`` -> ``Right`` and ``L`` ->
-``R`` (:func:`landmark_aliases`). Conventions: CMU (Hips, LowerBack, Spine, Spine1, Neck,
-Neck1, Head, LeftShoulder, LeftArm, LeftForeArm, LeftHand, LeftFingerBase, LeftHandIndex1,
-LThumb, LeftUpLeg, LeftLeg, LeftFoot), Mixamo (``mixamorig:`` stripped: Spine, Spine1, Spine2,
-HeadTop_End, LeftHandThumb1, LeftHandIndex1, LeftHandMiddle1, LeftHandPinky1, LeftToeBase)
-and Motive (Hip, Ab, Chest, Neck, Head, LShoulder, LUArm, LFArm, LHand, LThigh, LShin, LFoot,
-LToe)."""
 REQUIRED = tuple(f"{side}_{part}" for part in ("hip", "knee", "ankle", "shoulder", "elbow",
                                                "wrist") for side in ("left", "right"))
 """The landmarks a BVH file must give."""
 CHANNELS = ("Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation")
-
-
-def _right(name: str) -> str:
-    if name.startswith("Left"):
-        return "Right" + name[4:]
-    if re.match(r"L[A-Z]", name):
-        return "R" + name[1:]
-    return name
-
-
-def landmark_aliases() -> dict[str, tuple[str, ...]]:
-    """:data:`ALIASES` with the right side's names."""
-    out = {}
-    for landmark, names in ALIASES.items():
-        out[landmark] = names
-        if landmark.startswith("left_"):
-            out["right_" + landmark.removeprefix("left_")] = tuple(_right(n) for n in names)
-    return {m: out[m] for m in LANDMARKS if m in out}
 
 
 # -- rotations ---------------------------------------------------------------------------------
@@ -311,25 +269,72 @@ def _forward(nodes: list[_Node], motion: np.ndarray) -> np.ndarray:
     return pos.transpose(1, 0, 2)
 
 
-def bvh_format(names: Sequence[str], what: str) -> KeypointFormat:
-    """The keypoint format of a BVH file's joint names: landmarks by :data:`ALIASES`; a
-    required landmark no joint gives is a KeypointFileError."""
+class JointMapError(KeypointFileError):
+    """A ``--joint-map`` entry the file cannot take (a joint it lacks); one line."""
+
+
+def bvh_format(names: Sequence[str], what: str, points: np.ndarray | None = None,
+               parents: Sequence[int] | None = None,
+               joint_map: Mapping[str, str] | None = None) -> KeypointFormat:
+    """The keypoint format of a BVH file's joints.
+
+    Args:
+        names: the joints and End Sites, in file order.
+        what: the file, for messages.
+        points: their (N, J, 3) positions: a landmark is not taken from a joint that sits on
+            the landmark it is measured against (:func:`~.rigs.resolve`).
+        parents: each one's parent's index (parents first): the body the size checks measure
+            is the landmarks' joints, the joints above them and the feet below the ankles (not
+            props or fingers).
+        joint_map: landmark -> joint the user named (``--joint-map``), taken as given.
+
+    Raises:
+        JointMapError: a mapped joint the file lacks. KeypointFileError: a landmark of
+        :data:`REQUIRED` that neither the rig nor the map gives.
+    """
+    joint_map = dict(joint_map or {})
     present = set(names)
-    aliases = landmark_aliases()
-    landmarks = {}
-    for landmark, options in aliases.items():
-        found = next((n for n in options if n in present), None)
-        if found is None and landmark in REQUIRED:
+    for landmark, joint in joint_map.items():
+        if joint not in present:
+            import difflib
+
+            close = difflib.get_close_matches(joint, names, n=1)
+            hint = f"did you mean {close[0]}? " if close else ""
+            raise JointMapError(f"{what} has no joint {joint!r} for {landmark} ({hint}its "
+                                f"joints: {', '.join(names)})")
+    rig, fit = recognise(names)
+    landmarks = resolve(rig, names, points, joint_map)
+    for landmark in REQUIRED:
+        if landmark in landmarks:
+            continue
+        words = landmark.replace("_", " ")
+        if not fit:
             raise KeypointFileError(
-                f"{what}: no joint for the {landmark.replace('_', ' ')} (looked for "
-                f"{', '.join(options)})")
-        if found is not None:
-            landmarks[landmark] = (found,)
-    for side in ("left", "right"):
-        # The hand's across axis is index-to-pinky only where both are given.
-        if f"{side}_index" in landmarks and f"{side}_pinky" not in landmarks:
-            del landmarks[f"{side}_index"]
-    return KeypointFormat("bvh", "a BVH file's joints", tuple(names), "y", landmarks)
+                f"{what}: no joint for the {words}: the file's joint names fit none of the "
+                f"rigs known ({', '.join(r.name for r in RIGS)}); --joint-map "
+                f"{landmark}=JOINT,... names its landmarks")
+        raise KeypointFileError(
+            f"{what}: no joint for the {words} (looked for "
+            f"{', '.join(rig.landmarks[landmark])}: the {rig.name} rig's name for it, whose "
+            f"names the file's fit best; --joint-map {landmark}=JOINT names it)")
+    body = set()
+    for joint in set(landmarks.values()):
+        at = names.index(joint)
+        while at >= 0 and names[at] not in body:
+            body.add(names[at])
+            at = parents[at] if parents is not None else -1
+    feet = {landmarks[f"{side}_ankle"] for side in ("left", "right")}
+    for j, parent in enumerate(parents or ()):  # the feet below the ankles: the body's floor
+        if parent >= 0 and names[parent] in feet:
+            feet.add(names[j])
+    body |= feet
+    title = f"{rig.name} rig" if fit else "a rig of unknown names"
+    if joint_map:
+        title = f"{len(joint_map)} landmark(s) by --joint-map, the others by the {title}"
+    return KeypointFormat("bvh", title, tuple(names), "y",
+                          {m: (j,) for m, j in landmarks.items()},
+                          body=tuple(n for n in names if n in body) if parents is not None
+                          else ())
 
 
 @dataclass(frozen=True, eq=False)
@@ -370,12 +375,14 @@ def parse_bvh(path: str | os.PathLike, units: str = "m") -> BvhMotion:
                      frame_time, _forward(nodes, motion) / scale)
 
 
-def read_bvh(path: str | os.PathLike, units: str = "m") -> Keypoints:
+def read_bvh(path: str | os.PathLike, units: str = "m",
+             joint_map: Mapping[str, str] | None = None) -> Keypoints:
     """Read a BVH file as keypoints: every joint's and End Site's position in every frame.
 
     Args:
         path: the file, as the user typed it (messages name it so).
         units: the file's length unit, ``m``, ``cm`` or ``mm``.
+        joint_map: landmark -> joint, for a rig :mod:`.rigs` does not know (or to override it).
 
     Returns:
         Frames 1..N, points [m] in the file's frame (y up by BVH's convention), and the format
@@ -383,10 +390,11 @@ def read_bvh(path: str | os.PathLike, units: str = "m") -> Keypoints:
 
     Raises:
         KeypointFileError: one line naming the file (and the line, where it helps); a file
-        without a joint for one of :data:`REQUIRED` is one too.
+        without a joint for one of :data:`REQUIRED` is one too, and a ``joint_map`` joint it
+        lacks a :class:`JointMapError`.
     """
     motion = parse_bvh(path, units)
-    fmt = bvh_format(motion.names, str(path))
+    fmt = bvh_format(motion.names, str(path), motion.points, motion.parents, joint_map)
     return Keypoints(np.arange(1, len(motion.points) + 1), motion.points, fmt)
 
 

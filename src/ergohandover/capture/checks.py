@@ -58,7 +58,8 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
         KeypointFileError: one line, in this order: no frames; an infinite coordinate; a frame
         without any point; a missing point with ``missing="error"``; a body whose median extent
         along the up axis is outside 0.3-3 m; a body lying across the up axis; a body upside
-        down along it.
+        down along it. The body's extent is that of the format's ``body`` joints (a BVH file's
+        props do not make it tall).
     """
     if missing not in MISSING:
         raise KeypointFileError(f"{what}: --missing {missing!r} is not allowed (use "
@@ -86,7 +87,8 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
             f"{int(gaps.sum())} of {len(gaps)} frames miss points): --missing unseen scores such "
             f"frames with the columns those points decide as unseen")
     p = points[..., order] * np.array([1.0, 1.0, sign])  # z up
-    extent = np.nanmax(p, axis=1) - np.nanmin(p, axis=1)  # (N, 3)
+    body = p[:, [kp.fmt.index(j) for j in kp.fmt.body]] if kp.fmt.body else p
+    extent = np.nanmax(body, axis=1) - np.nanmin(body, axis=1)  # (N, 3)
     height = float(np.median(extent[:, 2]))
     axis = up.lstrip("-")
     if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:

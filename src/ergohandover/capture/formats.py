@@ -55,6 +55,8 @@ class KeypointFormat:
         landmarks: landmark -> the joint names whose mean is it.
         unseen: Posture columns its points do not show although their geometry would: points
             its source fills in from a rigid template rather than measures.
+        body: the joints whose extent is the body's for the size checks (empty: every joint;
+            a BVH file's props, fingers and toes are not).
     """
 
     name: str
@@ -63,12 +65,15 @@ class KeypointFormat:
     up: str
     landmarks: dict[str, tuple[str, ...]] = field(hash=False)
     unseen: tuple[str, ...] = ()
+    body: tuple[str, ...] = ()
 
     def __post_init__(self):
         for landmark, names in self.landmarks.items():
             unknown = [n for n in names if n not in self.joints]
             if landmark not in LANDMARKS or unknown:
                 raise ValueError(f"{self.name}: landmark {landmark} from {names}")
+        if not set(self.body) <= set(self.joints):
+            raise ValueError(f"{self.name}: body joints {set(self.body) - set(self.joints)}")
 
     def index(self, joint: str) -> int:
         return self.joints.index(joint)

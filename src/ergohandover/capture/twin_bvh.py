@@ -27,16 +27,22 @@ TwinJoint = tuple[str, str | None, str, tuple[float, float, float], str]
 link whose rotation it takes)."""
 
 
+def twin_point(body: BodySpec, key: str, side: str | None = None
+               ) -> tuple[str, tuple[float, float, float]]:
+    """(twin link, offset in it [m]) of point ``key`` of :data:`~.placement.POINTS` on
+    ``side`` (``left``, ``right``, or None on the mid-line)."""
+    link, offset = POINTS[key]
+    if link in ARM_LINKS:
+        link = f"{side}_{link}"
+    return link, tuple(offset(body.segments(), {"left": 1.0, "right": -1.0, None: 0.0}[side]))
+
+
 def twin_joints(body: BodySpec) -> tuple[list[TwinJoint], dict[str, tuple[str, tuple]]]:
     """The BVH joints of the twin in file order, and the End Sites (joint -> link, offset)."""
-    s = body.segments()
     zero = (0.0, 0.0, 0.0)
 
     def point(key: str, side: str | None = None) -> tuple[str, tuple[float, float, float]]:
-        link, offset = POINTS[key]
-        if link in ARM_LINKS:
-            link = f"{side}_{link}"
-        return link, tuple(offset(s, {"left": 1.0, "right": -1.0, None: 0.0}[side]))
+        return twin_point(body, key, side)
 
     joints: list[TwinJoint] = [("Hips", None, "pelvis", zero, "pelvis")]
     ends: dict[str, tuple[str, tuple]] = {}
@@ -80,8 +86,18 @@ def twin_bvh(state: KinematicState, body: BodySpec, up: str = "y", units: str = 
         The BVH text: root ``Hips`` at the pelvis with position channels, every joint with
         ZXY rotation channels.
     """
-    scale = unit_scale(units, "the BVH file")
     joints, ends = twin_joints(body)
+    return joints_bvh(state, joints, ends, up, units, frame_time, decimals)
+
+
+def joints_bvh(state: KinematicState, joints: list[TwinJoint],
+               ends: dict[str, tuple[str, tuple]], up: str = "y", units: str = "m",
+               frame_time: float = 1 / 30, decimals: int = 10) -> str:
+    """N twin postures as the text of a BVH file of any skeleton laid on the twin: ``joints``
+    (:data:`TwinJoint`, parents first; a joint at its parent's point has a zero offset) and
+    End Sites ``ends`` (joint -> twin link, offset); the other arguments as :func:`twin_bvh`'s.
+    """
+    scale = unit_scale(units, "the BVH file")
     model = state.model
     rest = model.forward(np.zeros((1, model.nq)))
     names = [j[0] for j in joints]

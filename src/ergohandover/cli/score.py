@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 import textwrap
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -35,7 +36,7 @@ from .values import BadValue, choice, existing_file, number, output_file, whole
 KEYPOINT_FORMATS = ("h36m17", "coco17", "mediapipe33", "zed34", "smpl24", "bvh")
 """What ``--format`` takes (``ergohandover.capture.FORMATS`` and BVH files)."""
 KEYPOINT_FLAGS = ("format", "up", "units", "frames", "missing", "unseen", "draws", "seed",
-                  "assume", "load_kg")
+                  "assume", "load_kg", "joint_map")
 """The flags that only ``--keypoints`` reads."""
 
 
@@ -104,6 +105,34 @@ def length_unit(text: str) -> str:
     return text
 
 
+class JointMap(NamedTuple):
+    """``--joint-map`` as typed and the landmark -> joint map it gives."""
+
+    text: str
+    landmarks: dict[str, str]
+
+
+def joint_map(text: str) -> JointMap:
+    """``NAME=JOINT,...`` or a file of such entries (commas or new lines; ``#`` comments): a
+    landmark of the project (``left_hip``, ``spine``, ...) for each joint named."""
+    from pathlib import Path
+
+    from ..capture.rigs import parse_joint_map
+
+    path = Path(text)
+    if "=" not in text and not path.is_file():
+        raise BadValue(text, "no such file, and not LANDMARK=JOINT,... (e.g. "
+                       "left_hip=LThigh,right_hip=RThigh)")
+    try:
+        source = path.read_text(encoding="utf-8") if "=" not in text else text
+    except (OSError, UnicodeDecodeError) as exc:
+        raise BadValue(text, f"cannot be read ({exc.__class__.__name__})") from None
+    try:
+        return JointMap(text, parse_joint_map(source))
+    except ValueError as exc:
+        raise BadValue(text, str(exc)) from None
+
+
 def frame_range(text: str) -> tuple[int, int]:
     """``A:B`` (frames A to B, 1-based, inclusive; either may be left out) or ``N``."""
     first, sep, last = text.partition(":")
@@ -147,6 +176,10 @@ def add_parser(subparsers) -> None:
                          "file is (e.g. 0.0254 for inches; default: m)")
     capture.add_argument("--frames", type=frame_range, metavar="A:B",
                          help="score frames A to B only (1-based, inclusive; A:, :B or N)")
+    capture.add_argument("--joint-map", type=joint_map, metavar="FILE|NAME=JOINT,...",
+                         help="with --format bvh: which of the file's joints is each landmark "
+                         "(left_hip=LThigh,spine=Spine2,...; the landmarks: docs/capture.md), "
+                         "for a rig whose names are not recognised, or to override it")
     capture.add_argument("--missing", type=choice(("error", "unseen")), default="error",
                          metavar="error|unseen", help="a frame with a missing (NaN, invisible) "
                          "point: refuse the file (default), or score the frame with the "
@@ -253,10 +286,16 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     from ..capture.readers import read_keypoints
 
     typed = str(args.keypoints)
+    if args.joint_map is not None and args.format != "bvh":
+        raise InputError(f"--joint-map cannot be used with --format {args.format} (only with "
+                         "bvh: the other formats' joints are fixed)")
     if args.format == "bvh":
-        from ..capture.bvh import read_bvh
+        from ..capture.bvh import JointMapError, read_bvh
 
-        kp = read_bvh(typed, args.units)
+        try:
+            kp = read_bvh(typed, args.units, args.joint_map and args.joint_map.landmarks)
+        except JointMapError as exc:
+            raise InputError(f"--joint-map {args.joint_map.text}: {exc}") from None
     else:
         kp = read_keypoints(typed, keypoint_format(args.format), args.units)
     up = args.up or kp.fmt.up
@@ -293,7 +332,8 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     open_rows = int(captured.unseen.any(axis=1).sum())
     shown = ", ".join(map(str, kp.frames[missing][:10])) + (", …" if missing.sum() > 10 else "")
     note = f"; {int(missing.sum())} with missing points (frames {shown})" if missing.any() else ""
-    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}, up {up}): "
+    rig = f": {kp.fmt.title}" if args.format == "bvh" else ""
+    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}{rig}, up {up}): "
                    f"{len(table) - open_rows} with every column measured{note}"
                    f"{unseen_note(captured.unseen)}")
 
