@@ -14,7 +14,7 @@ from PIL import Image
 
 from ergohandover.cli import main
 from ergohandover.twin.evaluate import EVALUATION_COLUMNS
-from ergohandover.workload import WORKLOAD_COLUMNS
+from ergohandover.workload import SHIFT_COLUMNS, WORKLOAD_COLUMNS
 
 
 def test_evaluates_points_and_renders_one_png_each(tmp_path):
@@ -24,7 +24,7 @@ def test_evaluates_points_and_renders_one_png_each(tmp_path):
     assert main(["evaluate", "--points", str(points), "--output", str(out), "--render",
                  str(renders), "--workers", "1"]) == 0
     table = pd.read_csv(out, keep_default_na=False)
-    assert list(table.columns) == [*EVALUATION_COLUMNS, *WORKLOAD_COLUMNS]
+    assert list(table.columns) == [*EVALUATION_COLUMNS, *WORKLOAD_COLUMNS, *SHIFT_COLUMNS]
     assert table["feasible"].tolist() == [1, 1]
     pngs = sorted(renders.glob("*.png"))
     assert [p.name for p in pngs] == ["point_0001.png", "point_0002.png"]
