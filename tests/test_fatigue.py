@@ -161,3 +161,6 @@ def test_every_load_reads_the_unit_loads_shift_as_if_followed_on_its_own(plan):
     fails = np.isfinite(failed)
     np.testing.assert_allclose(found.failure_min[fails], failed[fails], rtol=0, atol=1e-9)
     np.testing.assert_allclose(found.capacity_end, end, rtol=0, atol=1e-12)
+    # Without timing the failures: the same capacities, NaN where the joint fails.
+    np.testing.assert_array_equal(fatigue.capacity_at_end(loads, "shoulder", plan),
+                                  found.capacity_end)

@@ -222,6 +222,25 @@ def _per_unit_load(joint: str, plan: Shift) -> tuple[np.ndarray, np.ndarray, np.
     return ma, mf, peak
 
 
+def _first_failing(tl: np.ndarray, joint: str, plan: Shift) -> np.ndarray:
+    """The handover in whose hold each load ``tl`` (share of strength, >= 0) first fails
+    (``plan.handovers``: none): the first whose hold's end would leave less than the load."""
+    _, _, peak = _per_unit_load(joint, plan)
+    with np.errstate(divide="ignore"):
+        allowed = np.where(tl > 0, (1.0 - tl) / np.where(tl > 0, tl, 1.0), np.inf)
+    return np.searchsorted(np.maximum.accumulate(peak), allowed, side="right")
+
+
+def capacity_at_end(load, joint: str, plan: Shift = Shift()) -> np.ndarray:
+    """What the joint can still give at the end of the shift at ``load`` (any shape), 1 − MF;
+    NaN where it fails during the shift. As :func:`shift` without timing the failures: the
+    cheap question a workforce asks of every worker at every location."""
+    tl = np.clip(np.asarray(load, dtype=float), 0.0, None)
+    _, mf, _ = _per_unit_load(joint, plan)
+    fails = _first_failing(tl.ravel(), joint, plan).reshape(tl.shape) < plan.handovers
+    return np.where(fails, np.nan, 1.0 - tl * mf[-1])
+
+
 def shift(load, joint: str, plan: Shift = Shift()) -> ShiftOutcome:
     """The joint over a shift of handovers at ``load`` (share of strength, any shape; 0: the
     handover does not load it), starting rested.
@@ -234,10 +253,8 @@ def shift(load, joint: str, plan: Shift = Shift()) -> ShiftOutcome:
     tl = np.clip(np.asarray(load, dtype=float), 0.0, None)
     shape = tl.shape
     tl = tl.ravel()
-    ma, mf, peak = _per_unit_load(joint, plan)
-    with np.errstate(divide="ignore"):
-        allowed = np.where(tl > 0, (1.0 - tl) / np.where(tl > 0, tl, 1.0), np.inf)
-    first = np.searchsorted(np.maximum.accumulate(peak), allowed, side="right")
+    ma, mf, _ = _per_unit_load(joint, plan)
+    first = _first_failing(tl, joint, plan)
     fails = first < plan.handovers
     failed_at = np.full_like(tl, np.inf)
     if fails.any():

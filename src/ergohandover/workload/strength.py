@@ -95,16 +95,15 @@ def shift_outcome(shares: dict[str, np.ndarray], plan, keep: float) -> dict[str,
     where the box is not taken) over a shift (``plan``: a :class:`~.fatigue.Shift`):
     ``kept`` where every joint ends it unfailed with at least ``keep`` of its capacity, and
     ``fails`` where a joint fails during it (both False where the box is not taken)."""
-    from .fatigue import shift
+    from .fatigue import capacity_at_end
 
     kept, fails = None, None
     for joint in JOINTS:
         share = np.asarray(shares[joint], dtype=float)
         taken = np.isfinite(share)
-        found = shift(np.where(taken, share, 0.0), joint, plan)
-        alive = np.isinf(found.failure_min)
-        good = taken & alive & (np.nan_to_num(found.capacity_end, nan=-1.0) >= keep)
-        bad = taken & ~alive
+        left = capacity_at_end(np.where(taken, share, 0.0), joint, plan)
+        good = taken & (np.nan_to_num(left, nan=-1.0) >= keep)
+        bad = taken & np.isnan(left)
         kept = good if kept is None else kept & good
         fails = bad if fails is None else fails | bad
     return {"kept": kept, "fails": fails}
