@@ -232,9 +232,12 @@ def write_rig(tmp_path: Path, rig: str, postures, rename=None) -> tuple[Path, st
     return path, unit
 
 
-def scored(path: Path, unit: str, *flags: str) -> tuple[pd.DataFrame, str]:
+def scored(path: Path, unit: str | None, *flags: str) -> tuple[pd.DataFrame, str]:
+    """The file scored through the command (``unit`` None: no --units, the unit told from the
+    legs); its table and what it said."""
     out = path.with_suffix(".csv")
-    done = run_cli("score", "--keypoints", str(path), "--format", "bvh", "--units", unit,
+    given = ["--units", unit] if unit is not None else []
+    done = run_cli("score", "--keypoints", str(path), "--format", "bvh", *given,
                    "--output", str(out), *flags)
     assert done.returncode == 0, done.stderr
     return pd.read_csv(out), done.stderr
@@ -248,8 +251,9 @@ def test_every_rig_is_in_the_table():
 def test_each_rig_read_without_flags_gives_the_postures_angles(rig, tmp_path, postures):
     _, _, truth = postures
     path, unit = write_rig(tmp_path, rig, postures)
-    table, said = scored(path, unit)
-    assert f"(bvh: {rig} rig, up y)" in said, said
+    table, said = scored(path, None)  # no flags: the rig and its unit are told from the file
+    told = {"m": "m", "cm": "cm", str(0.0254 / 0.45): "CMU's 1/0.45 inch"}[unit]
+    assert f"(bvh: {rig} rig, up y, units {told}, told from the legs)" in said, said
     with_wrists = RIG_FILES[rig][4]
     for column in (*SEEN, *(WRISTS if with_wrists else ())):
         assert table[column].notna().all(), f"{rig}: {column} unseen"
@@ -361,7 +365,7 @@ def test_an_unknown_rig_is_read_with_a_joint_map(tmp_path, postures):
     mapfile.write_text("# 3ds Max Biped\n" + BIPED_MAP.replace(",", "\n") + "\n")
     for given in (BIPED_MAP, str(mapfile)):
         table, said = scored(path, unit, "--joint-map", given)
-        assert "by --joint-map, the others by the CMU/Vicon rig, up y)" in said, said
+        assert "by --joint-map, the others by the CMU/Vicon rig, up y, --units " in said, said
         for column in ("trunk_flexion", "neck_flexion", "left_upper_arm_flexion",
                        "right_shoulder_raise", "right_upper_arm_rotation", "left_knee_flexion"):
             got = table[column].to_numpy(dtype=float)
@@ -402,3 +406,30 @@ def test_a_joint_map_needs_a_bvh_file(tmp_path):
                       "--joint-map", "spine=spine")
     assert message == ("--joint-map cannot be used with --format h36m17 (only with bvh: the "
                        "other formats' joints are fixed)")
+
+
+def test_rotations_in_radians_are_refused_and_read_with_radians(tmp_path, postures):
+    from ergohandover.capture.bvh import _parse_hierarchy
+
+    path = write_rig(tmp_path, "CMU/Vicon", postures)[0]
+    lines = path.read_text().splitlines()
+    nodes, _ = _parse_hierarchy(lines, str(path))
+    turns = np.array([c.endswith("rotation") for node in nodes for c in node.channels])
+    first = next(i for i, line in enumerate(lines) if line.startswith("Frame Time")) + 1
+    for i in range(first, len(lines)):
+        values = np.array(lines[i].split(), dtype=float)
+        values[turns] = np.radians(values[turns])
+        lines[i] = " ".join(f"{v:.9g}" for v in values)
+    radians = tmp_path / "radians.bvh"
+    radians.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "r.csv"
+    done = run_cli("score", "--keypoints", str(radians), "--format", "bvh", "--output",
+                   str(out))
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1
+    assert "these look like radians, and BVH rotations are degrees; give --radians" in \
+        done.stderr
+    assert not out.exists()
+    table, _ = scored(radians, None, "--radians")
+    want, _ = scored(path, None)
+    for column in SEEN:
+        np.testing.assert_allclose(table[column], want[column], atol=1e-3, err_msg=column)

@@ -366,13 +366,16 @@ BAD = {  # case -> (tmp_path -> argv, what the line says; {file}: the file as ty
     "infinite point": (lambda t: wide(h36m_wide(t, set_cell(4, "head_y", "inf"))),
                        "{file}: frame 5, joint 'head' has an infinite coordinate"),
     "40 m tall": (lambda t: ["--keypoints", str(npy(t, 25 * np.load(KEYPOINTS / "zed34.npz")[
-        "keypoints"])), "--format", "zed34"],
+        "keypoints"])), "--format", "zed34", "--units", "m"],
                   "{file}: the body is 41.3 m tall read as --units m (the median extent of its "
                   "points along the up axis z): expected 0.3-3 m; is the up axis right (--up), "
                   "and what is the file's unit? A 1.7 m body would make one unit 0.0412 m "
                   "(--units 0.0412; m, cm and mm are 1, 0.01 and 0.001)"),
-    "bvh in cm read as m": (lambda t: example("bvh")[:4],
+    "bvh in cm read as m": (lambda t: [*example("bvh")[:4], "--units", "m"],
                             "{file}: the body is 174 m tall read as --units m"),
+    "legs of no unit": (lambda t: ["--keypoints", str(npy(t, 4 * np.load(KEYPOINTS / "zed34.npz")[
+        "keypoints"])), "--format", "zed34"],
+                        "{file}: its unit cannot be told: its legs are"),
     "units not a unit": (lambda t: [*example("h36m17"), "--units", "inch"],
                          "--units inch: not a unit (expected m, cm, mm, or the metres one unit "
                          "of the file is, a number above 0)"),

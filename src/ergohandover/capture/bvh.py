@@ -354,12 +354,41 @@ class BvhMotion:
     points: np.ndarray
 
 
-def parse_bvh(path: str | os.PathLike, units: str = "m") -> BvhMotion:
+RADIANS_AT_MOST = np.pi + 0.05
+"""Rotations that all lie within ± this (and some beyond :data:`STILL_DEG`) read as radians: in
+degrees, a whole take that turns no joint more than 3° is not a recording of work."""
+STILL_DEG = 0.3
+"""Below this largest rotation a take is still in either unit and is taken as given."""
+
+
+def _rotations_in_degrees(nodes: list[_Node], motion: np.ndarray, radians: bool,
+                          what: str) -> np.ndarray:
+    """``motion`` with its rotation channels in degrees: converted when ``radians``; else a
+    take whose every rotation reads as radians is refused in one line naming ``--radians``."""
+    turns = np.array([c.endswith("rotation") for node in nodes for c in node.channels])
+    if not turns.any():
+        return motion
+    if radians:
+        motion = motion.copy()
+        motion[:, turns] = np.degrees(motion[:, turns])
+        return motion
+    largest = float(np.abs(motion[:, turns]).max(initial=0.0))
+    if STILL_DEG < largest <= RADIANS_AT_MOST:
+        raise KeypointFileError(
+            f"{what}: every rotation is within ±{RADIANS_AT_MOST:.2f} (the largest "
+            f"{largest:.3g}): these look like radians, and BVH rotations are degrees; give "
+            "--radians to read them as radians")
+    return motion
+
+
+def parse_bvh(path: str | os.PathLike, units: str = "m", radians: bool = False) -> BvhMotion:
     """Read a BVH file's hierarchy and motion, and run its forward kinematics.
 
     Args:
         path: the file, as the user typed it (messages name it so).
         units: the file's length unit, ``m``, ``cm`` or ``mm``.
+        radians: its rotations are radians (BVH's are degrees; a file whose rotations read as
+            radians is refused without it).
 
     Raises:
         KeypointFileError: one line naming the file (and the line, where it helps).
@@ -371,18 +400,20 @@ def parse_bvh(path: str | os.PathLike, units: str = "m") -> BvhMotion:
     nodes, motion_line = _parse_hierarchy(lines, what)
     channels = sum(len(node.channels) for node in nodes)
     motion, frame_time = _parse_motion(lines, motion_line, channels, what)
+    motion = _rotations_in_degrees(nodes, motion, radians, what)
     return BvhMotion(tuple(node.name for node in nodes), tuple(node.parent for node in nodes),
                      frame_time, _forward(nodes, motion) / scale)
 
 
 def read_bvh(path: str | os.PathLike, units: str = "m",
-             joint_map: Mapping[str, str] | None = None) -> Keypoints:
+             joint_map: Mapping[str, str] | None = None, radians: bool = False) -> Keypoints:
     """Read a BVH file as keypoints: every joint's and End Site's position in every frame.
 
     Args:
         path: the file, as the user typed it (messages name it so).
         units: the file's length unit, ``m``, ``cm`` or ``mm``.
         joint_map: landmark -> joint, for a rig :mod:`.rigs` does not know (or to override it).
+        radians: its rotations are radians (:func:`parse_bvh`).
 
     Returns:
         Frames 1..N, points [m] in the file's frame (y up by BVH's convention), and the format
@@ -393,7 +424,7 @@ def read_bvh(path: str | os.PathLike, units: str = "m",
         without a joint for one of :data:`REQUIRED` is one too, and a ``joint_map`` joint it
         lacks a :class:`JointMapError`.
     """
-    motion = parse_bvh(path, units)
+    motion = parse_bvh(path, units, radians)
     fmt = bvh_format(motion.names, str(path), motion.points, motion.parents, joint_map)
     return Keypoints(np.arange(1, len(motion.points) + 1), motion.points, fmt)
 

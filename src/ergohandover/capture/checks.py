@@ -19,6 +19,16 @@ TYPICAL_HEIGHT_M = 1.7
 ANSUR II's 50th-percentile woman and man (1.63 and 1.76 m stature); the hint is approximate by
 design."""
 
+CANDIDATE_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "inch": 0.0254,
+                   "CMU's 1/0.45 inch": 0.0254 / 0.45}
+"""Units a file may be in, as the metres one unit is: SI's, inches, and the CMU motion-capture
+database's (its BVH files' unit, 1/0.45 inch)."""
+LEG_M = (0.55, 1.15)
+"""A person's leg, hip joint to knee to ankle [m]: from a short woman's (about 0.66 m at
+1.50 m stature) to a tall man's (about 0.98 m at 2.0 m), widened so that a leg bent in a
+crouch still fits; the units' ratios (at least 2.2 between neighbours) exceed the range's
+(2.1), so at most one unit fits."""
+
 MAX_LYING_RATIO = 1.5
 """A body whose horizontal extent is more than this many times its extent along the up axis
 lies across it: the up axis is wrong."""
@@ -122,3 +132,41 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
                 f"a median {-float(np.median(seen)):.2f} m below its ankles): is the up axis "
                 f"'{_flip(up)}'? (--up)")
     return gaps
+
+
+def leg_length(kp: Keypoints) -> float:
+    """The median over frames and sides of hip-to-knee plus knee-to-ankle, in the file's unit
+    (NaN where the format gives no hip, knee or ankle): bones keep their length whatever the
+    posture and whichever axis is up."""
+    marks = kp.fmt.landmarks
+
+    def at(mark: str) -> np.ndarray:
+        return kp.points[:, [kp.fmt.index(j) for j in marks[mark]]].mean(axis=1)  # (N, 3)
+
+    legs = []
+    for side in ("left", "right"):
+        hip, knee, ankle = (f"{side}_{part}" for part in ("hip", "knee", "ankle"))
+        if all(m in marks for m in (hip, knee, ankle)):
+            legs.append(np.linalg.norm(at(hip) - at(knee), axis=1)
+                        + np.linalg.norm(at(knee) - at(ankle), axis=1))
+    found = np.concatenate(legs) if legs else np.array([np.nan])
+    return float(np.nanmedian(found)) if np.isfinite(found).any() else float("nan")
+
+
+def infer_unit(kp: Keypoints, what: str) -> tuple[str, float]:
+    """The unit of keypoints read in the file's own unit, from the length of their legs: the
+    one of :data:`CANDIDATE_UNITS` that makes the legs a person's (:data:`LEG_M`). Returns its
+    name and the metres one file unit is; a one-line KeypointFileError naming ``--units`` when
+    none does (or the format gives no legs)."""
+    leg = leg_length(kp)
+    if not np.isfinite(leg) or leg <= 0:
+        raise KeypointFileError(f"{what}: its unit cannot be told (the file gives no hip, knee "
+                                "and ankle to measure a leg by): give --units")
+    fits = [(name, metres) for name, metres in CANDIDATE_UNITS.items()
+            if LEG_M[0] <= leg * metres <= LEG_M[1]]
+    if len(fits) != 1:
+        raise KeypointFileError(
+            f"{what}: its unit cannot be told: its legs are {leg:.3g} file units long (hip to "
+            f"knee to ankle), which no unit of {', '.join(CANDIDATE_UNITS)} makes a person's "
+            f"{LEG_M[0]:g}-{LEG_M[1]:g} m: give --units (m, cm, mm, or the metres one unit is)")
+    return fits[0]

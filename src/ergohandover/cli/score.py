@@ -171,9 +171,10 @@ def add_parser(subparsers) -> None:
     capture.add_argument("--up", type=choice(("x", "-x", "y", "-y", "z", "-z")), metavar="AXIS",
                          help="the axis that points up in the file (default: the format's: "
                          "-y for h36m17, coco17, mediapipe33; z for zed34; y for smpl24, bvh)")
-    capture.add_argument("--units", type=length_unit, default="m", metavar="m|cm|mm|METRES",
+    capture.add_argument("--units", type=length_unit, metavar="m|cm|mm|METRES",
                          help="the keypoints' unit: m, cm, mm, or the metres one unit of the "
-                         "file is (e.g. 0.0254 for inches; default: m)")
+                         "file is (e.g. 0.0254 for inches; default: told from the length of "
+                         "the legs, among m, cm, mm, inch and CMU's 1/0.45 inch)")
     capture.add_argument("--frames", type=frame_range, metavar="A:B",
                          help="score frames A to B only (1-based, inclusive; A:, :B or N)")
     capture.add_argument("--joint-map", type=joint_map, metavar="FILE|NAME=JOINT,...",
@@ -199,6 +200,10 @@ def add_parser(subparsers) -> None:
                          "(a task factor, or an angle the format cannot see); repeatable")
     capture.add_argument("--load-kg", type=number(0, 25, "kg"), metavar="KG",
                          help="the load handled (default: 0 kg), as --assume load_kg=KG")
+    parser.add_argument("--radians", action="store_true",
+                        help="with --input, the file's angles are radians; with --format bvh, "
+                        "its rotations are (converted to degrees; without it a file whose every "
+                        "angle is within ±3.19 is refused as radians)")
     add_dataclass_arguments(parser, ScoringSettings, "scoring settings (what REBA/RULA leave "
                             "open)")
     # With --input: the body whose segments the back load weighs, and the lift.
@@ -218,6 +223,10 @@ def run(args: argparse.Namespace) -> int:
     elif args.format is None:
         raise InputError("--keypoints needs --format (h36m17, coco17, mediapipe33, zed34, "
                          "smpl24 or bvh)")
+    if args.radians and not (args.input or args.format == "bvh"):
+        raise InputError(f"--radians cannot be used with "
+                         f"--{'keypoints' if args.keypoints else 'items'} (only with --input, "
+                         "a Posture CSV's angles, or --format bvh, a BVH file's rotations)")
     if args.input is None:
         workload = [f for f in (*model_flags(), "lift_frequency", "lift_duration",
                                 "lift_destination", "rate", "hold", "shift_hours")
@@ -234,7 +243,8 @@ def run(args: argparse.Namespace) -> int:
         table, what = item_scores(args.items)
     else:
         name = "standard input" if args.input == "-" else args.input
-        text, posture = read_postures(args.input, what=name)
+        text, posture = read_postures(args.input, what=name, radians=args.radians,
+                                      radians_flag="--radians")
         scores = pd.DataFrame(score_postures(posture, settings))
         work = input_workload(text, posture, args, plan)
         passthrough = text.drop(columns=[c for c in text.columns
@@ -282,10 +292,11 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     """The table of ``--keypoints`` and what it holds, every check made before scoring."""
     from ..capture import capture, capture_scores, keypoint_format
     from ..capture.captured import MeasuredColumnError
-    from ..capture.checks import check_keypoints
+    from ..capture.checks import check_keypoints, infer_unit
     from ..capture.readers import read_keypoints
 
     typed = str(args.keypoints)
+    units = args.units or "m"  # without --units: read in the file's own unit, then told
     if args.joint_map is not None and args.format != "bvh":
         raise InputError(f"--joint-map cannot be used with --format {args.format} (only with "
                          "bvh: the other formats' joints are fixed)")
@@ -293,11 +304,17 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
         from ..capture.bvh import JointMapError, read_bvh
 
         try:
-            kp = read_bvh(typed, args.units, args.joint_map and args.joint_map.landmarks)
+            kp = read_bvh(typed, units, args.joint_map and args.joint_map.landmarks,
+                          args.radians)
         except JointMapError as exc:
             raise InputError(f"--joint-map {args.joint_map.text}: {exc}") from None
     else:
-        kp = read_keypoints(typed, keypoint_format(args.format), args.units)
+        kp = read_keypoints(typed, keypoint_format(args.format), units)
+    said = f"--units {args.units}"
+    if args.units is None:
+        name, metres = infer_unit(kp, typed)
+        kp = type(kp)(kp.frames, kp.points * metres, kp.fmt)
+        units, said = f"{metres!r}", f"units {name}, told from the legs"
     up = args.up or kp.fmt.up
     if args.frames is not None:
         keep = (kp.frames >= args.frames[0]) & (kp.frames <= args.frames[1])
@@ -306,7 +323,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
             raise InputError(f"--frames {args.frames[0]}:{last}: {typed} has frames "
                              f"{kp.frames.min()}-{kp.frames.max()}")
         kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
-    missing = check_keypoints(kp, up, args.missing, typed, args.units)
+    missing = check_keypoints(kp, up, args.missing, typed, units)
     assume = dict(args.assume or [])
     if args.load_kg is not None:
         if "load_kg" in assume:
@@ -333,7 +350,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     shown = ", ".join(map(str, kp.frames[missing][:10])) + (", …" if missing.sum() > 10 else "")
     note = f"; {int(missing.sum())} with missing points (frames {shown})" if missing.any() else ""
     rig = f": {kp.fmt.title}" if args.format == "bvh" else ""
-    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}{rig}, up {up}): "
+    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}{rig}, up {up}, {said}): "
                    f"{len(table) - open_rows} with every column measured{note}"
                    f"{unseen_note(captured.unseen)}")
 

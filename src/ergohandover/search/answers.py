@@ -174,7 +174,7 @@ class AnswerReader:
             raise Refused(f"a posture row of {len(cells)} values: expected {after}")
         try:
             _, posture = read_postures(io.StringIO(f"{','.join(columns)}\n{text}\n"),
-                                       what="the posture row")
+                                       what="the posture row", radians=None)
         except (InputError, PostureError) as exc:
             raise Refused(str(exc)) from None
         return Answer(float(score_postures(posture, self.scoring)[self.objective][0]),
