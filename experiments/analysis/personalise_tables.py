@@ -286,6 +286,27 @@ def measured_budgets(measured: pd.DataFrame, answers: str = HEADLINE_ANSWERS) ->
     return lines
 
 
+def model_or_lowest(measured: pd.DataFrame) -> str:
+    """For the searchers without a model of their own, in model under the headline's answers
+    at the headline budget: how often a model of their answers recommends a true optimum,
+    beside their lowest single reading."""
+    rows = measured[(measured["model"] == "in-model") & (measured["answers"]
+                                                         == HEADLINE_ANSWERS)
+                    & (measured["budget"] == HEADLINE_BUDGET)]
+    pairs = []
+    for searcher, table in rows.groupby("searcher", sort=False):
+        found = table.set_index("rule")
+        if {"model", "lowest"} <= set(found.index):
+            pairs.append(f"{label(searcher)} {share(found.loc['model'])} against "
+                         f"{found.loc['lowest', 'p_regret_0']:.0%}")
+    n = int(rows["n_workers"].max()) if len(rows) else 0
+    degrees = HEADLINE_ANSWERS.split()[2]  # "posture SD 5 deg"
+    return (f"\nIn model, postures measured with {degrees}° of error, after {HEADLINE_BUDGET} "
+            f"handovers ({n} workers, 5 runs each), a "
+            "true optimum is recommended by the model of the answers against the lowest single "
+            "reading: " + "; ".join(pairs) + ".\n")
+
+
 def blocks(results: Path) -> dict[str, str]:
     """Each generated block's text, from ``results``/personalise/ only."""
     summary = _read(results, "summary.csv")
@@ -298,6 +319,7 @@ def blocks(results: Path) -> dict[str, str]:
         found["personalise-measured"] = "\n" + "\n".join(measured_table(measured)) + "\n"
         found["personalise-measured-budgets"] = ("\n" + "\n".join(measured_budgets(measured))
                                                  + "\n")
+        found["personalise-model-or-lowest"] = model_or_lowest(measured)
     return found
 
 
