@@ -76,7 +76,9 @@ def test_a_parts_hashed_inputs_are_its_section_and_everything_it_needs():
     for name in PARTS:
         inputs = set(config.part_inputs(name)) - {"capture_code", "measured_data",
                                                    "fatigue_code"}
-        assert inputs == {name, "landscape", *needed(name)}
+        # The accommodation part's workforce goes through the shift question's shifts.
+        shifts = {"shift"} if name == "accommodation" else set()
+        assert inputs == {name, "landscape", *needed(name), *shifts}
 
 
 def test_an_unknown_part_is_one_line_naming_the_allowed_ones():

@@ -100,7 +100,7 @@ QUESTIONS = (
         "fig_accommodation"),
     Question("shift", ("population", "robustness"), {
         "reference.csv": (), "curves.csv": (), "locations.csv": (), "trace.csv": ()}, 120,
-             False, "fig_shift"),
+             True, "fig_shift"),
 )
 """Every question, in the order ``run_all`` runs them all (each after what it needs)."""
 
