@@ -125,10 +125,11 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
     assert (noisy["regret"] >= 0).all()
     assert (noisy["answer"] != noisy["true_score"]).any()  # the error shows
     rated = pd.DataFrame(run_measured_job(measured_job(Answers("rater", 0.51))))
-    assert (rated["answer"] % 0.5 == 0).all()  # whole scores, or the mean of two
+    answered = rated[rated["rule"] != "model"]["answer"]  # a model's recommendation: no answer
+    assert (answered % 0.5 == 0).all() and rated[rated["rule"] == "model"]["answer"].isna().all()
     baseline = pd.Series({"w1|in-model": 1.0})  # one handover at the prior's: 1 point off
     summary = measured_summary(pd.concat([exact, noisy, rated]), baseline, seed=0)
-    assert len(summary) == 3 + 3 * 2 * 3  # no search per answer model, then every rule
+    assert len(summary) == 3 + 3 * 3 * 3  # no search per answer model, then every rule
     nothing = summary[summary["searcher"] == "no search"]
     assert (nothing["mean_regret"] == 1.0).all() and (nothing["gain"] == 0).all()
     for _, row in summary.iterrows():
