@@ -283,3 +283,23 @@ def test_the_expected_score_is_the_posteriors_mean_of_the_hypotheses_scores():
 
 def values_at(worker: int, cell: int) -> float:
     return float(values(worker)[cell])
+
+
+def test_a_searcher_without_a_model_recommends_from_the_workers_model_not_a_lucky_reading():
+    from ergohandover.study.personalise.measured_answers import worker_model_recommendations
+
+    own = values(1)
+    feasible = np.flatnonzero(np.isfinite(own))
+    best = int(feasible[np.argmin(own[feasible])])
+    lucky = int(feasible[np.argmax(own[feasible])])  # the worst cell the worker can take
+    others = [int(c) for c in feasible if c not in (best, lucky)][:6]
+    # Tried: some cells, the worker's optimum, then the worst one read lucky and low once.
+    heard = [(c, answer_at(1, c)) for c in (*others, best)] + [(lucky,
+                                                                answer_at(1, lucky, 1.0))]
+    found = worker_model_recommendations(library(1), PRIOR, heard, [3, len(heard)])
+    assert found[len(heard)] == best  # every angle weighed: the optimum, not the lucky reading
+    assert found[3] in others[:3]  # after 3 handovers: one of the 3 tried
+    # A cell tried again counts once towards the budget: its answers are two measurements.
+    again = worker_model_recommendations(library(1), PRIOR,
+                                         [heard[0], heard[0], *heard[1:]], [3, len(heard)])
+    assert again[len(heard)] == best

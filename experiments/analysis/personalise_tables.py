@@ -287,24 +287,28 @@ def measured_budgets(measured: pd.DataFrame, answers: str = HEADLINE_ANSWERS) ->
 
 
 def model_or_lowest(measured: pd.DataFrame) -> str:
-    """For the searchers without a model of their own, in model under the headline's answers
-    at the headline budget: how often a model of their answers recommends a true optimum,
-    beside their lowest single reading."""
-    rows = measured[(measured["model"] == "in-model") & (measured["answers"]
-                                                         == HEADLINE_ANSWERS)
-                    & (measured["budget"] == HEADLINE_BUDGET)]
-    pairs = []
-    for searcher, table in rows.groupby("searcher", sort=False):
-        found = table.set_index("rule")
-        if {"model", "lowest"} <= set(found.index):
-            pairs.append(f"{label(searcher)} {share(found.loc['model'])} against "
-                         f"{found.loc['lowest', 'p_regret_0']:.0%}")
-    n = int(rows["n_workers"].max()) if len(rows) else 0
-    degrees = HEADLINE_ANSWERS.split()[2]  # "posture SD 5 deg"
-    return (f"\nIn model, postures measured with {degrees}° of error, after {HEADLINE_BUDGET} "
-            f"handovers ({n} workers, 5 runs each), a "
-            "true optimum is recommended by the model of the answers against the lowest single "
-            "reading: " + "; ".join(pairs) + ".\n")
+    """For the searchers without a model of their own, in model at the headline budget, under
+    the headline's answers and an IMU's: how often a model of their answers recommends a true
+    optimum, beside their lowest single reading."""
+    said = []
+    for answers, words in ((HEADLINE_ANSWERS, f"postures measured with "
+                            f"{HEADLINE_ANSWERS.split()[2]}° of error"),
+                           ("IMU", "an IMU's errors")):
+        rows = measured[(measured["model"] == "in-model") & (measured["answers"] == answers)
+                        & (measured["budget"] == HEADLINE_BUDGET)]
+        pairs = []
+        for searcher, table in rows.groupby("searcher", sort=False):
+            found = table.set_index("rule")
+            if {"model", "lowest"} <= set(found.index):
+                pairs.append(f"{label(searcher)} {share(found.loc['model'])} against "
+                             f"{found.loc['lowest', 'p_regret_0']:.0%}")
+        if pairs:
+            n, runs = int(rows["n_workers"].max()), int(rows["n_runs"].max())
+            said.append(f"with {words} ({n} workers, {runs // n} run(s) each): "
+                        + "; ".join(pairs))
+    return (f"\nIn model, after {HEADLINE_BUDGET} handovers, a true optimum is recommended by "
+            "the model of the answers against the lowest single reading, " + "; and ".join(said)
+            + ".\n")
 
 
 def blocks(results: Path) -> dict[str, str]:

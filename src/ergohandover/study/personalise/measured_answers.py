@@ -15,12 +15,14 @@ and stops a run at the worker's known minimum: the ceiling. This one is what a s
   worker's optimum (``model``: :meth:`recommend`, with the model's probability that it is the
   optimum), and may stop early (``model, stopped``: at the first handover after which that
   probability reaches the stopping level, ``stop_level``; the handovers used are reported). A
-  searcher without one recommends from a model of the worker's scores fitted to its answers
-  (``model``: :mod:`~...search.surrogate`, a Gaussian process over the tried cells). Beside it,
-  for comparison: the location of the lowest answer among B handovers (``lowest``, the first of
-  equals: under measurement error it favours a lucky reading), and (``confirm``) searching
-  B − k handovers and spending the last k (:func:`confirmations`) measuring the k best again,
-  the lowest mean of two recommended — a repeat costs a handover;
+  searcher without one recommends from a model of the worker fitted to its answers
+  (``model``: :func:`worker_model_recommendations`, the fitted twin's posterior over bodies
+  weighed by every measured angle, or by the score alone: the tried location where it expects
+  the lowest true score). Beside it, for comparison: the location of the lowest answer among B
+  handovers (``lowest``, the first of equals: under measurement error it favours a lucky
+  reading), and (``confirm``) searching B − k handovers and spending the last k
+  (:func:`confirmations`) measuring the k best again, the lowest mean of two recommended — a
+  repeat costs a handover;
 - **a twin fitted to the worker** (:mod:`~...search.fitted_twin`): a posterior over the
   population's other bodies, displaced a little, weighed by every measured angle;
 - **workers who are not the twin**: besides the population's workers (*in-model*: the prior was
@@ -48,7 +50,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ...envs.scores import ScoreSource
+from ...envs.scores import Answer, ScoreSource
 from ...errors import ConfigError
 from ...landscape.grid import Grid
 from ...landscape.store import landscape_of
@@ -56,9 +58,8 @@ from ...robustness.measured_error import MEASURED_ERROR, MeasuredError
 from ...robustness.posture_error import ANGLE_COLUMNS, ErrorModel
 from ...search import Budget, entry, make
 from ...search import run as run_search
-from ...search.fitted_twin import TwinLibrary
+from ...search.fitted_twin import BodyPosterior, TwinLibrary
 from ...search.prior import Prior
-from ...search.surrogate import surrogate_recommendation
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
@@ -153,8 +154,9 @@ class MeasuredJob:
         answers: how each handover is answered.
         budgets: handovers after which the recommendation is read (the largest is run).
         seeds: one seed per run.
-        candidates: (name, evaluator) of the bodies a fitted twin chooses from (the
-            population's other workers; only for a searcher that needs them).
+        candidates: (name, evaluator) of the bodies a model of the worker chooses from (the
+            population's other workers and their impaired twins): a fitted twin's, and every
+            other searcher's recommendation (none: the lowest reading and confirm rules only).
         stop_level: the stopping rule's level: a run stops at the first handover after which
             its model's probability that the recommendation is the optimum reaches it.
     """
@@ -247,6 +249,57 @@ def candidate_library(candidates: Sequence[tuple[str, Evaluator]], grid: Grid, o
                        [n for n, _ in candidates], cache=_CANDIDATES, **settings)
 
 
+class Heard(ScoreSource):
+    """A score source that keeps every answer it gives, in order (cell, answer): what a model
+    of the worker is fitted to after the search (repeated handovers included)."""
+
+    def __init__(self, inner: ScoreSource):
+        self.inner, self.grid, self.heard = inner, inner.grid, []
+        self.objective = getattr(inner, "objective", "paper_postural")
+
+    def answer(self, flat: int) -> Answer:
+        found = self.inner.answer(flat) if hasattr(self.inner, "answer") else Answer(
+            self.inner.score(flat))
+        self.heard.append((int(flat), found))
+        return found
+
+    def score(self, flat: int) -> float:
+        return self.answer(flat).score
+
+
+def worker_model_recommendations(twins: TwinLibrary, prior: Prior,
+                                 answers: list[tuple[int, Answer]],
+                                 budgets: Sequence[int]) -> dict[int, int | None]:
+    """For a searcher without a model of its own: after each budget of distinct handovers,
+    the tried location where a model of the worker expects the lowest true score — the fitted
+    twin's posterior over bodies (:class:`~...search.fitted_twin.BodyPosterior`), fitted to
+    every answer heard so far (each measured angle, or the score alone); the first tried of
+    equals; None while nothing feasible was heard."""
+    posterior = BodyPosterior(twins, prior)
+    tried: list[int] = []
+    found: dict[int, int | None] = {}
+
+    def recommend() -> int | None:
+        feasible = [c for c in tried if c in fine]
+        if not feasible:
+            return None
+        return feasible[int(np.argmin(np.round(posterior.expected_scores(feasible), 9)))]
+
+    fine: set[int] = set()
+    wanted = sorted(set(budgets))
+    for cell, answer in answers:
+        if cell not in tried:
+            if len(tried) in wanted:  # the budget's answers are all in: before a new one
+                found[len(tried)] = recommend()
+            tried.append(cell)
+        posterior.update(cell, answer)
+        if math.isfinite(answer.score):
+            fine.add(cell)
+    for budget in wanted:  # a search that ended within the budget: its answers so far
+        found.setdefault(budget, recommend())
+    return found
+
+
 def run_measured_job(job: MeasuredJob) -> list[dict]:
     """Every run of the job: one row per budget and rule (the recommendation, its answer and
     true score, its true regret)."""
@@ -260,7 +313,7 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
         return job.answers.source(job.grid, job.evaluator, job.objective, values, rng, postures)
 
     twins = None
-    if entry(job.searcher).twins:
+    if job.candidates:
         body = job.evaluator.body
         twins = candidate_library(job.candidates, job.grid, job.objective,
                                   worker=(body.stature_m, body.sex),
@@ -269,10 +322,14 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
     largest = max(job.budgets)
     model = entry(job.searcher).model
     for run, seed in enumerate(job.seeds):
-        record = run_search(make(job.searcher, job.grid, seed, prior, twins=twins),
-                            source(measurement_rng(seed, job.answers)),
-                            Budget(evaluations=largest),
+        heard = Heard(source(measurement_rng(seed, job.answers)))
+        record = run_search(make(job.searcher, job.grid, seed, prior,
+                                 twins=twins if entry(job.searcher).twins else None),
+                            heard, Budget(evaluations=largest),
                             recommend_at=range(1, largest + 1) if model else ())
+        worker_model = (worker_model_recommendations(twins, job.prior, heard.heard,
+                                                     job.budgets)
+                        if twins is not None and not model else {})
         kept = record.info.get("recommendations", {})  # handovers -> the model's, if it has one
         for budget in sorted(job.budgets):
             spent = min(budget, len(record.cells))
@@ -285,10 +342,9 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
                                  if kept[n].p_optimal >= job.stop_level), spent)
                     found["model, stopped"] = (kept[stop].cell, math.nan, stop,
                                                kept[stop].p_optimal)
-            else:  # the surrogate's recommendation, and the lowest reading's beside it
-                found["model"] = (surrogate_recommendation(job.grid, record.cells[:budget],
-                                                           record.scores[:budget]),
-                                  math.nan, spent, math.nan)
+            else:  # a model of the worker's, and the lowest reading's beside it
+                if budget in worker_model:
+                    found["model"] = (worker_model[budget], math.nan, spent, math.nan)
                 best = recommendation(record.scores, budget)
                 again = source(measurement_rng(seed, job.answers, budget))
                 lowest = None if best is None else record.cells[best]

@@ -45,7 +45,6 @@ import pandas as pd
 
 from ...io.atomic import atomic_write_csv
 from ...landscape import Landscape
-from ...search.registry import SEARCHERS
 from ...twin.evaluate import Evaluator
 from ..config import StudyConfig
 from ..engines import Engine
@@ -167,20 +166,20 @@ def measured_tables(part, chosen: pd.DataFrame, evaluators: list[Evaluator], gri
     twins = [(w, IN_MODEL, e) for w, e in zip(chosen["worker"], evaluators, strict=True)]
     twins += out_of_model(part, chosen, evaluators, grid, engine)
     twins += unknown(part, chosen, evaluators, grid, engine)
-    # A fitted twin's candidates: the population's other workers and the other workers'
-    # impaired twins (so that a restriction can be found from the angles).
+    # The model of the worker (a fitted twin's, and every other searcher's recommendation):
+    # the population's other workers and the other workers' impaired twins as candidates (so
+    # that a restriction can be found from the angles).
     everyone = [*everyone, *impaired_candidates(twins)]
     # Bayesian optimisation's proposals cost the most: its jobs first, so the pool ends together.
     searchers = sorted(part.measured_searchers, key=lambda s: s != "bo+prior")
-    if any(SEARCHERS[s].twins for s in part.measured_searchers):
-        # Every candidate's scores and angles, read here once for the pool's workers.
-        landscapes(engine, [e for _, e in everyone], grid)  # swept if not in the cache
-        candidate_library(everyone, grid, part.objective).prepare()
+    # Every candidate's scores and angles, read here once for the pool's workers.
+    landscapes(engine, [e for _, e in everyone], grid)  # swept if not in the cache
+    candidate_library(everyone, grid, part.objective).prepare()
     jobs = [MeasuredJob(w, twin, e, grid, part.objective, s, answers,
                         tuple(part.budgets_of(s, measured=True)),
                         run_seeds(part.seed, w, part.runs_of(answers, twin)), priors[w],
-                        tuple(c for c in everyone if not own_candidate(c[0], w))
-                        if SEARCHERS[s].twins else (), part.stop_level)
+                        tuple(c for c in everyone if not own_candidate(c[0], w)),
+                        part.stop_level)
             for s in searchers for answers in models for w, twin, e in twins
             if part.runs_of(answers, twin)]
     baseline = pd.Series({f"{w}|{twin}": no_search(values_for(truth_key(w, twin), e, grid,
