@@ -288,8 +288,8 @@ def measured_budgets(measured: pd.DataFrame, answers: str = HEADLINE_ANSWERS) ->
 
 def model_or_lowest(measured: pd.DataFrame) -> str:
     """For the searchers without a model of their own, in model at the headline budget, under
-    the headline's answers and an IMU's: how often a model of their answers recommends a true
-    optimum, beside their lowest single reading."""
+    the headline's answers and an IMU's: how often a model of the worker fitted to their
+    answers recommends a true optimum, beside their lowest single reading."""
     said = []
     for answers, words in ((HEADLINE_ANSWERS, f"postures measured with "
                             f"{HEADLINE_ANSWERS.split()[2]}° of error"),
@@ -307,7 +307,7 @@ def model_or_lowest(measured: pd.DataFrame) -> str:
             said.append(f"with {words} ({n} workers, {runs // n} run(s) each): "
                         + "; ".join(pairs))
     return (f"\nIn model, after {HEADLINE_BUDGET} handovers, a true optimum is recommended by "
-            "the model of the answers against the lowest single reading, " + "; and ".join(said)
+            "the model of the worker against the lowest single reading, " + "; and ".join(said)
             + ".\n")
 
 
