@@ -266,3 +266,24 @@ def test_the_four_manikins_are_ordered_by_size_and_sexed():
     masses = [b.mass_kg for b in bodies.values()]
     assert statures == sorted(statures) and masses == sorted(masses)
     assert bodies["m50"] == BodySpec()  # the study's default worker is the 50th man
+
+
+def test_an_infinite_lifting_index_and_a_failing_shift_say_why():
+    from ergohandover.workload.flags import flags
+
+    said = flags({"niosh_h_cm": 70.2, "niosh_v_cm": 100.0, "niosh_d_cm": 30.0,
+                  "niosh_a_deg": 140.0, "niosh_li": float("inf"),
+                  "shift_failure_min": 2.4})
+    assert ("lifting index inf over 1: the recommended weight limit is 0 because H 70.2 cm is "
+            "beyond its 63 cm reach and A 140.0° is beyond its 135° reach") in said
+    assert "over the shift a joint fails its hold after 2 min" in said
+    quiet = flags({"niosh_h_cm": 40.0, "niosh_li": 0.8, "shift_failure_min": float("inf")})
+    assert quiet == []
+
+
+def test_a_joint_that_never_fails_reads_never_on_the_page():
+    from ergohandover.viewer.report_page import shown
+
+    assert shown("shift_failure_min", float("inf")) == "never"
+    assert shown("niosh_li", float("inf")) == "inf"
+    assert shown("shift_failure_min", 12.345) == "12.3"

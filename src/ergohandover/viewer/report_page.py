@@ -94,7 +94,7 @@ def shown(column: str, value) -> str:
     if value is None or pd.isna(value):
         return ""
     if isinstance(value, float) and math.isinf(value):
-        return "inf"
+        return "never" if column.endswith("_failure_min") else "inf"
     if isinstance(value, (bool, np.bool_)) or (column not in DECIMALS and column.startswith(WHOLE)):
         return str(round(float(value)))
     return f"{float(value):.{DECIMALS.get(column, 3)}f}"

@@ -50,7 +50,11 @@ def flags(row: Mapping) -> list[str]:
                      "limit (AM 0 beyond it)")
     li = row.get("niosh_li")
     if li is not None and not pd.isna(li) and li > 1:
-        found.append(f"lifting index {'inf' if np.isinf(li) else f'{li:.2f}'} over 1")
+        found.append(f"lifting index {'inf' if np.isinf(li) else f'{li:.2f}'} over 1"
+                     + (f": {zero_limit(row)}" if np.isinf(li) else ""))
+    failed = row.get("shift_failure_min")
+    if failed is not None and not pd.isna(failed) and np.isfinite(failed):
+        found.append(f"over the shift a joint fails its hold after {failed:.0f} min")
     compression = row.get("back_compression_n")
     if compression is not None and not pd.isna(compression):
         action, upper = COMPRESSION_LIMITS_N
@@ -61,6 +65,19 @@ def flags(row: Mapping) -> list[str]:
             found.append(f"L5/S1 compression {compression:,.0f} N over NIOSH's "
                          f"{action:,.0f} N action limit")
     return found
+
+
+def zero_limit(row: Mapping) -> str:
+    """Why the recommended weight limit is 0 (a lifting index of inf): the distances and the
+    angle past the equation's reach."""
+    past = [f"{name} {row[column]:.1f} cm is beyond its {reach:g} cm reach"
+            for column, name, reach in CUT_OFFS
+            if row.get(column) is not None and not pd.isna(row[column]) and row[column] > reach]
+    asymmetry = row.get("niosh_a_deg")
+    if asymmetry is not None and not pd.isna(asymmetry) and asymmetry > A_MAX_DEG:
+        past.append(f"A {asymmetry:.1f}° is beyond its {A_MAX_DEG:g}° reach")
+    return ("the recommended weight limit is 0 because " + " and ".join(past) if past else
+            "the recommended weight limit is 0")
 
 
 def flag_column(table: pd.DataFrame) -> pd.Series:
