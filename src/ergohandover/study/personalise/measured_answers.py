@@ -258,8 +258,7 @@ class Heard(ScoreSource):
         self.objective = getattr(inner, "objective", "paper_postural")
 
     def answer(self, flat: int) -> Answer:
-        found = self.inner.answer(flat) if hasattr(self.inner, "answer") else Answer(
-            self.inner.score(flat))
+        found = self.inner.answer(flat)
         self.heard.append((int(flat), found))
         return found
 
