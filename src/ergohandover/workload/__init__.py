@@ -36,26 +36,39 @@ def workload(posture: Posture, levers: Levers, locations: np.ndarray | None = No
     return out | back_load(posture, levers)
 
 
+def _rows_mask(table: pd.DataFrame, rows: np.ndarray | None) -> np.ndarray:
+    """``rows`` as a boolean mask of ``table`` (every row if None)."""
+    return np.ones(len(table), dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
+
+
+def _posture_of(chosen: pd.DataFrame) -> Posture:
+    """The Posture of a table's rows (the Posture columns it has)."""
+    return Posture({c: chosen[c].to_numpy(dtype=float) for c in POSTURE_COLUMNS if c in chosen})
+
+
+def _spread(found: dict[str, np.ndarray], index: pd.Index, rows: np.ndarray) -> pd.DataFrame:
+    """Columns computed at ``rows`` of a table, placed back on its ``index``, empty elsewhere:
+    codes and bands stay whole numbers (an empty cell is pandas' missing integer)."""
+    out = {}
+    for name, values in found.items():
+        kind = "Int64" if np.issubdtype(values.dtype, np.integer) else float
+        column = pd.Series(pd.NA if kind == "Int64" else np.nan, index=index, dtype=kind)
+        column[rows] = values
+        out[name] = column
+    return pd.DataFrame(out, index=index)
+
+
 def workload_table(table: pd.DataFrame, levers: Levers, lift: LiftTask | None = None,
                    rows: np.ndarray | None = None) -> pd.DataFrame:
     """:func:`workload` of a table with the Posture columns (an Evaluation, a Posture CSV):
     with the lifting columns when it has the location columns ``x, y, z``; only at ``rows``
     (a boolean mask, e.g. the feasible rows; every row if omitted), empty elsewhere."""
-    rows = np.ones(len(table), dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
+    rows = _rows_mask(table, rows)
     chosen = table[rows]
-    posture = Posture({c: chosen[c].to_numpy(dtype=float) for c in POSTURE_COLUMNS
-                       if c in chosen})
     located = {"x", "y", "z"} <= set(table.columns)
-    found = workload(posture, levers,
+    found = workload(_posture_of(chosen), levers,
                      chosen[["x", "y", "z"]].to_numpy(dtype=float) if located else None, lift)
-    out = {}
-    for name, values in found.items():
-        # Codes and bands stay whole numbers; an empty cell is pandas' missing integer.
-        kind = "Int64" if np.issubdtype(values.dtype, np.integer) else float
-        column = pd.Series(pd.NA if kind == "Int64" else np.nan, index=table.index, dtype=kind)
-        column[rows] = values
-        out[name] = column
-    return pd.DataFrame(out, index=table.index)
+    return _spread(found, table.index, rows)
 
 
 def shift_table(table: pd.DataFrame, body, plan, rows: np.ndarray | None = None
@@ -67,16 +80,8 @@ def shift_table(table: pd.DataFrame, body, plan, rows: np.ndarray | None = None
     elsewhere."""
     from .strength import shift_columns
 
-    rows = np.ones(len(table), dtype=bool) if rows is None else np.asarray(rows, dtype=bool)
-    chosen = table[rows]
-    posture = Posture({c: chosen[c].to_numpy(dtype=float) for c in POSTURE_COLUMNS
-                       if c in chosen})
-    out = {}
-    for name, values in shift_columns(posture, body, plan).items():
-        column = pd.Series(np.nan, index=table.index, dtype=float)
-        column[rows] = values
-        out[name] = column
-    return pd.DataFrame(out, index=table.index)
+    rows = _rows_mask(table, rows)
+    return _spread(shift_columns(_posture_of(table[rows]), body, plan), table.index, rows)
 
 
 __all__ = [
