@@ -16,8 +16,6 @@ from common import RESULTS
 from headline_types import Headline, pct
 from readme_blocks import rewrite
 
-from ergohandover.study.shift.part import BASELINE
-
 
 def reference_block(reference: pd.DataFrame) -> str:
     """The report's table: each joint's endurance times at each reference load [s]."""
@@ -48,6 +46,9 @@ def where(row) -> str:
     return f"({100 * row['x']:+.0f}, {100 * row['y']:.0f}, {100 * row['z']:.0f}) cm"
 
 
+BASELINE = "shortest distance"
+"""The locations read as the baseline (their names start with it): the robot's shortest-distance
+location from each start."""
 
 
 def span(low: str, high: str) -> str:

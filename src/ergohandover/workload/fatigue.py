@@ -274,6 +274,7 @@ def capacity_over_shift(load: float, joint: str, plan: Shift = Shift()) -> np.nd
     _, mf, _ = _per_unit_load(joint, plan)
     tl = max(float(load), 0.0)
     capacity = 1.0 - tl * mf
-    first = int(_first_failing(np.array([tl]), joint, plan)[0])  # the hold it fails in
-    capacity[first + 1:] = np.nan  # nothing when it never fails (first = N)
+    failed = float(shift(tl, joint, plan).failure_min)
+    if math.isfinite(failed):
+        capacity[int(failed * 60.0 // plan.cycle_s) + 1:] = np.nan
     return capacity
