@@ -24,6 +24,12 @@ class MeasuredColumnError(ErgohandoverError, ValueError):
         super().__init__(message)
         self.column = column
 
+    @classmethod
+    def of(cls, column: str, seen: int, frames: int) -> MeasuredColumnError:
+        """The error of ``column`` assumed while measured in ``seen`` of ``frames`` frames."""
+        return cls(f"{column} is measured in {seen} of {frames} frames: an assumed value fills "
+                   "only a column the capture cannot see", column)
+
 
 MODES = ("interval", "prior")
 """How unseen columns enter the scores: the interval over their plausible ranges, or the
@@ -69,8 +75,7 @@ def capture(points: np.ndarray, fmt: KeypointFormat, up: str | None = None,
     for name in assume or {}:
         seen = int(np.isfinite(measured[name]).sum()) if name in measured else 0
         if seen:  # an assumption fills what the capture cannot see, never a measurement
-            raise MeasuredColumnError(f"{name} is measured in {seen} of {n} frames: an assumed "
-                                      "value fills only a column the capture cannot see", name)
+            raise MeasuredColumnError.of(name, seen, n)
     given = {name: np.zeros(n) for name in REQUIRED_COLUMNS}  # replaced by what is measured
     given |= measured
     given |= {name: np.full(n, float(value)) for name, value in (assume or {}).items()}

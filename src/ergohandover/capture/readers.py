@@ -148,7 +148,7 @@ def _read_csv(data: bytes, fmt: KeypointFormat, what: str) -> tuple[np.ndarray, 
     return _read_wide(table, fmt, what)
 
 
-def _cells(table: pd.DataFrame, columns: list[str], what: str,
+def cell_values(table: pd.DataFrame, columns: list[str], what: str,
            row_numbers: np.ndarray | None = None) -> np.ndarray:
     """(rows, len(columns)) floats of text cells: empty (or ``nan``) is NaN; other text that is
     not a number is an error naming its row (1-based, after the header) and column."""
@@ -166,20 +166,21 @@ def _cells(table: pd.DataFrame, columns: list[str], what: str,
     return values.reshape(text.shape)
 
 
-def _frame_numbers(table: pd.DataFrame, what: str) -> np.ndarray:
-    """The ``frame`` column as integers; a cell that is not a whole number is an error."""
+def frame_numbers(table: pd.DataFrame, what: str, first_row: int = 1) -> np.ndarray:
+    """The ``frame`` column as integers; a cell that is not a whole number is an error naming
+    its row (``first_row``: the number of the table's first row, for a part of a file)."""
     text = table["frame"].str.strip()
     values = pd.to_numeric(text, errors="coerce").to_numpy(dtype=np.float64)
     bad = np.flatnonzero(~np.isfinite(values) | (values != np.round(values)))
     if bad.size:
         cell = text.iloc[bad[0]]
         shown = repr(cell) if cell else "an empty cell"
-        raise KeypointFileError(f"{what}: row {bad[0] + 1}, column 'frame': {shown} is not a "
-                                f"frame number (expected a whole number)")
+        raise KeypointFileError(f"{what}: row {bad[0] + first_row}, column 'frame': {shown} "
+                                "is not a frame number (expected a whole number)")
     return values.astype(np.int64)
 
 
-def _whole_points(points: np.ndarray) -> np.ndarray:
+def whole_points(points: np.ndarray) -> np.ndarray:
     """A point with any coordinate missing is missing as a whole."""
     return np.where(np.isnan(points).any(axis=-1, keepdims=True), np.nan, points)
 
@@ -194,12 +195,12 @@ def _read_wide(table: pd.DataFrame, fmt: KeypointFormat,
             f"{len(columns)} columns are absent; a wide keypoint CSV has <joint>_x, <joint>_y, "
             f"<joint>_z for each of its joints, a long one the columns frame, joint, x, y, z)")
     if "frame" in table.columns:
-        frames = _frame_numbers(table, what)
+        frames = frame_numbers(table, what)
         _no_repeats(frames, what)
     else:
         frames = np.arange(1, len(table) + 1)
-    points = _cells(table, columns, what).reshape(len(table), len(fmt.joints), 3)
-    return frames, _whole_points(points)
+    points = cell_values(table, columns, what).reshape(len(table), len(fmt.joints), 3)
+    return frames, whole_points(points)
 
 
 def _no_repeats(frames: np.ndarray, what: str) -> None:
@@ -218,9 +219,9 @@ def _read_long(table: pd.DataFrame, fmt: KeypointFormat,
     if absent:
         raise KeypointFileError(f"{what} has a 'joint' column but no column '{absent[0]}' "
                                 f"(a long keypoint CSV has the columns {', '.join(required)})")
-    frames = _frame_numbers(table, what)
+    frames = frame_numbers(table, what)
     joint = _joint_indices(table["joint"].str.strip(), frames, fmt, what)
-    xyz = _cells(table, ["x", "y", "z"], what)
+    xyz = cell_values(table, ["x", "y", "z"], what)
     numbers, row_frame = np.unique(frames, return_inverse=True)
     key = row_frame * len(fmt.joints) + joint
     order = np.argsort(key, kind="stable")
@@ -232,7 +233,7 @@ def _read_long(table: pd.DataFrame, fmt: KeypointFormat,
             f"(rows {first + 1} and {second + 1}; expected each joint at most once a frame)")
     points = np.full((len(numbers), len(fmt.joints), 3), np.nan)
     points[row_frame, joint] = xyz
-    return numbers, _whole_points(points)
+    return numbers, whole_points(points)
 
 
 def _joint_indices(names: pd.Series, frames: np.ndarray, fmt: KeypointFormat,
@@ -310,7 +311,7 @@ def _points_array(array: np.ndarray, fmt: KeypointFormat, what: str) -> np.ndarr
         raise KeypointFileError(
             f"{what}: every frame has {array.shape[1]} joints; format {fmt.name} has {count} "
             f"(the array's shape is {tuple(array.shape)}; expected (frames, {count}, 3))")
-    return _whole_points(array.astype(np.float64))
+    return whole_points(array.astype(np.float64))
 
 
 # -- MediaPipe JSON ----------------------------------------------------------------------------
@@ -355,7 +356,7 @@ def _read_json(data: bytes, fmt: KeypointFormat, what: str,
                 f"{count} (expected a list of {count} landmarks a frame)")
         for j, mark in enumerate(landmarks):
             points[i, j] = _landmark(mark, i + 1, fmt.joints[j], j, what, min_visibility)
-    return _whole_points(points)
+    return whole_points(points)
 
 
 def _frame_landmarks(frame, number: int, what: str) -> list:

@@ -211,6 +211,13 @@ def _bound(group, rows, filled, values, changes, settings, low, high) -> None:
         high[item][rows] = table.max(axis=1)
 
 
+def draw_block(draws: int) -> int:
+    """Rows whose values :func:`score_distributions` draws at once (about 200,000 values): a
+    caller that scores a file part by part hands it whole blocks, so that the generator gives
+    every row the values it gives when the file is scored whole."""
+    return max(1, 200_000 // draws)
+
+
 def score_distributions(columns: Mapping[str, np.ndarray], unseen: np.ndarray,
                         rng: np.random.Generator, draws: int = 400,
                         settings: ScoringSettings | None = None) -> dict[str, np.ndarray]:
@@ -228,7 +235,7 @@ def score_distributions(columns: Mapping[str, np.ndarray], unseen: np.ndarray,
     settings = settings or ScoringSettings()
     ranges = plausible_ranges()
     n = unseen.shape[0]
-    chunk = max(1, 200_000 // draws)
+    chunk = draw_block(draws)
     out = {f"{s}_probabilities": np.zeros((n, 25)) for s in SCORES}
     for start in range(0, n, chunk):
         index = np.arange(start, min(start + chunk, n))

@@ -12,16 +12,18 @@ import numpy as np
 import pandas as pd
 
 from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
-from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, POSTURE_COLUMNS, REQUIRED_COLUMNS
+from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, REQUIRED_COLUMNS
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError, numeric_columns
 from ..io.posture_csv import read_postures
 from . import defaults
+from .keypoints import MAX_FRAMES, score_keypoints
 from .options import (
     add_body_arguments,
     add_dataclass_arguments,
     add_lift_arguments,
     add_shift_arguments,
+    add_yes_argument,
     body_from_args,
     dataclass_from_args,
     lift_from_args,
@@ -36,7 +38,7 @@ from .values import BadValue, choice, existing_file, number, output_file, whole
 KEYPOINT_FORMATS = ("h36m17", "coco17", "mediapipe33", "zed34", "smpl24", "bvh")
 """What ``--format`` takes (``ergohandover.capture.FORMATS`` and BVH files)."""
 KEYPOINT_FLAGS = ("format", "up", "units", "frames", "missing", "unseen", "draws", "seed",
-                  "assume", "load_kg", "joint_map")
+                  "assume", "load_kg", "joint_map", "yes")
 """The flags that only ``--keypoints`` reads."""
 
 
@@ -198,6 +200,7 @@ def add_parser(subparsers) -> None:
     capture.add_argument("--assume", type=assumption, action="append", metavar="COLUMN=VALUE",
                          help="a Posture column's value for every frame, known from elsewhere "
                          "(a task factor, or an angle the format cannot see); repeatable")
+    add_yes_argument(capture, f"{MAX_FRAMES:,} frames (a larger file is counted first)")
     capture.add_argument("--load-kg", type=number(0, 25, "kg"), metavar="KG",
                          help="the load handled (default: 0 kg), as --assume load_kg=KG")
     parser.add_argument("--radians", action="store_true",
@@ -238,7 +241,10 @@ def run(args: argparse.Namespace) -> int:
     settings = dataclass_from_args(ScoringSettings, args)
     plan = shift_from_args(args)
     if args.keypoints is not None:
-        table, what = keypoint_scores(args, settings)
+        result = score_keypoints(args, settings)
+        if result is None:  # read, scored and written a part at a time
+            return 0
+        table, what = result
     elif args.items is not None:
         table, what = item_scores(args.items)
     else:
@@ -285,85 +291,6 @@ def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace,
     body = body_from_args(args)
     return pd.concat([workload_table(table, Levers.of(body), lift_from_args(args)),
                       shift_table(table, body, plan)], axis=1)
-
-
-def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
-                    ) -> tuple[pd.DataFrame, str]:
-    """The table of ``--keypoints`` and what it holds, every check made before scoring."""
-    from ..capture import capture, capture_scores, keypoint_format
-    from ..capture.captured import MeasuredColumnError
-    from ..capture.checks import check_keypoints, infer_unit
-    from ..capture.readers import read_keypoints
-
-    typed = str(args.keypoints)
-    units = args.units or "m"  # without --units: read in the file's own unit, then told
-    if args.joint_map is not None and args.format != "bvh":
-        raise InputError(f"--joint-map cannot be used with --format {args.format} (only with "
-                         "bvh: the other formats' joints are fixed)")
-    if args.format == "bvh":
-        from ..capture.bvh import JointMapError, read_bvh
-
-        try:
-            kp = read_bvh(typed, units, args.joint_map and args.joint_map.landmarks,
-                          args.radians)
-        except JointMapError as exc:
-            raise InputError(f"--joint-map {args.joint_map.text}: {exc}") from None
-    else:
-        kp = read_keypoints(typed, keypoint_format(args.format), units)
-    said = f"--units {args.units}"
-    if args.units is None:
-        name, metres = infer_unit(kp, typed)
-        kp = type(kp)(kp.frames, kp.points * metres, kp.fmt)
-        units, said = f"{metres!r}", f"units {name}, told from the legs"
-    up = args.up or kp.fmt.up
-    if args.frames is not None:
-        keep = (kp.frames >= args.frames[0]) & (kp.frames <= args.frames[1])
-        if not keep.any():
-            last = "" if args.frames[1] == sys.maxsize else args.frames[1]
-            raise InputError(f"--frames {args.frames[0]}:{last}: {typed} has frames "
-                             f"{kp.frames.min()}-{kp.frames.max()}")
-        kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
-    missing = check_keypoints(kp, up, args.missing, typed, units)
-    assume = dict(args.assume or [])
-    if args.load_kg is not None:
-        if "load_kg" in assume:
-            raise InputError("--load-kg and --assume load_kg=... both given: give one")
-        assume["load_kg"] = args.load_kg
-    try:
-        captured = capture(kp.points, kp.fmt, up, assume)
-    except MeasuredColumnError as exc:
-        raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
-    scores = capture_scores(captured, settings, args.unseen, np.random.default_rng(args.seed),
-                            args.draws)
-    table = pd.DataFrame({"frame": kp.frames})
-    for name in POSTURE_COLUMNS:
-        values = captured.columns[name]
-        table[name] = np.where(captured.unseen[:, POSTURE_COLUMNS.index(name)], np.nan, values)
-    table["unseen"] = captured.unseen_names()
-    for name, values in scores.items():
-        if name.endswith("_probabilities"):
-            table[name] = [" ".join(f"{v}:{p:.3f}" for v, p in enumerate(row) if p > 0)
-                           for row in values]
-        else:
-            table[name] = pd.array(np.where(np.isfinite(values), values, np.nan), dtype="Int64")
-    open_rows = int(captured.unseen.any(axis=1).sum())
-    shown = ", ".join(map(str, kp.frames[missing][:10])) + (", …" if missing.sum() > 10 else "")
-    note = f"; {int(missing.sum())} with missing points (frames {shown})" if missing.any() else ""
-    rig = f": {kp.fmt.title}" if args.format == "bvh" else ""
-    return table, (f"{len(table)} frames of {typed} ({kp.fmt.name}{rig}, up {up}, {said}): "
-                   f"{len(table) - open_rows} with every column measured{note}"
-                   f"{unseen_note(captured.unseen)}")
-
-
-def unseen_note(unseen: np.ndarray) -> str:
-    """What a capture did not measure, for its summary line: the columns unseen in every frame,
-    and those unseen in some with the share of frames (``unseen``: frames x POSTURE_COLUMNS)."""
-    share = unseen.mean(axis=0)
-    always = [c for c, f in zip(POSTURE_COLUMNS, share, strict=True) if f == 1.0]
-    some = [f"{c} ({100 * f:.0f} %)" for c, f in zip(POSTURE_COLUMNS, share, strict=True)
-            if 0.0 < f < 1.0]
-    return ("".join([f"; unseen in every frame: {', '.join(always)}" if always else "",
-                     f"; unseen in some frames: {', '.join(some)}" if some else ""]))
 
 
 def item_scores(source: str) -> tuple[pd.DataFrame, str]:
