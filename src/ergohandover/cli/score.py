@@ -200,7 +200,7 @@ def add_parser(subparsers) -> None:
     capture.add_argument("--assume", type=assumption, action="append", metavar="COLUMN=VALUE",
                          help="a Posture column's value for every frame, known from elsewhere "
                          "(a task factor, or an angle the format cannot see); repeatable")
-    add_yes_argument(capture, f"{MAX_FRAMES:,} frames (a larger file is counted first)")
+    add_yes_argument(capture, f"{MAX_FRAMES:,} frames")
     capture.add_argument("--load-kg", type=number(0, 25, "kg"), metavar="KG",
                          help="the load handled (default: 0 kg), as --assume load_kg=KG")
     parser.add_argument("--radians", action="store_true",
