@@ -292,6 +292,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     """The table of ``--keypoints`` and what it holds, every check made before scoring."""
     from ..capture import capture, capture_scores, keypoint_format
     from ..capture.captured import MeasuredColumnError
+    from ..capture.bones import check_format
     from ..capture.checks import check_keypoints, infer_unit
     from ..capture.readers import read_keypoints
 
@@ -310,6 +311,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
             raise InputError(f"--joint-map {args.joint_map.text}: {exc}") from None
     else:
         kp = read_keypoints(typed, keypoint_format(args.format), units)
+    check_format(kp, typed)  # a wrong joint order, before any check that names --up or --units
     said = f"--units {args.units}"
     if args.units is None:
         name, metres = infer_unit(kp, typed)
