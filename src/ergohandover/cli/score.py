@@ -53,7 +53,8 @@ Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1
 paper's additive postural score, given one of three ways:
 
   --input      a Posture CSV: one posture per row, angles in degrees, flexion + (its columns:
-               docs/architecture.md, "File contracts"); writes its columns and every score.
+               docs/architecture.md, "File contracts"); writes its columns and every score
+               (a --keypoints output: its scores and intervals again, from its unseen cells).
   --keypoints  3D keypoints of a pose estimator or motion capture (--format; CSV wide or long,
                NPY/NPZ, MediaPipe JSON, BVH): writes per frame the Posture columns measured
                from them (empty where the format cannot see a column), the unseen columns, and
