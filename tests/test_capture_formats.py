@@ -219,3 +219,17 @@ def test_robustness_reads_a_captures_output_once_every_column_is_given(tmp_path)
     assert main(["robustness", "--postures", str(path), "--draws", "10", "--output",
                  str(out)]) == 0
     assert len(pd.read_csv(out)) == 6 * 3
+
+
+def test_a_captured_answer_in_the_other_17_joint_format_is_refused_naming_it():
+    from ergohandover.search.answers import AnswerReader, Refused
+
+    reader = AnswerReader("paper_postural", keypoints="keypoints:h36m17")
+    coco = read_keypoints(KEYPOINTS / "coco17_long.csv", FORMATS["coco17"]).points[0]
+    with pytest.raises(Refused) as refusal:
+        reader.read(",".join(repr(float(v)) for v in coco.ravel()))
+    assert str(refusal.value).startswith("the frame: its bones fit coco17, not "
+                                         "--answer-format keypoints:h36m17 (its ")
+    assert str(refusal.value).endswith("): try --answer-format keypoints:coco17")
+    h36m = read_keypoints(KEYPOINTS / "h36m17.csv", FORMATS["h36m17"]).points[0]
+    assert reader.read(",".join(repr(float(v)) for v in h36m.ravel())).kind == "keypoints"
