@@ -433,3 +433,51 @@ def test_rotations_in_radians_are_refused_and_read_with_radians(tmp_path, postur
     want, _ = scored(path, None)
     for column in SEEN:
         np.testing.assert_allclose(table[column], want[column], atol=1e-3, err_msg=column)
+
+
+# Every joint with position channels (Perception Neuron "with displacement") --------------------
+
+
+def every_joint_moves(text: str) -> str:
+    """A BVH text whose joints below the root have rotation channels only, rewritten as
+    Perception Neuron writes "with displacement": six channels for every joint, the position
+    channels holding the joint's local translation (its OFFSET) in every frame."""
+    lines, offsets, roots, last = text.splitlines(), [], [], None
+    for i, line in enumerate(lines):
+        words = line.split()
+        if words[:1] == ["OFFSET"]:
+            last = words[1:]
+        elif words[:1] == ["CHANNELS"]:
+            roots.append(words[1] == "6")
+            offsets.append(None if words[1] == "6" else last)
+            if words[1] == "3":
+                lines[i] = line.replace("CHANNELS 3", "CHANNELS 6 Xposition Yposition Zposition")
+    first = next(i for i, line in enumerate(lines) if line.startswith("Frame Time")) + 1
+    for i in range(first, len(lines)):
+        values, row = lines[i].split(), []
+        for offset in offsets:
+            take = 6 if offset is None else 3
+            row += (offset or []) + values[:take]
+            values = values[take:]
+        lines[i] = " ".join(row)
+    return "\n".join(lines) + "\n"
+
+
+def test_position_channels_on_every_joint_keep_the_offsets_bones(tmp_path, postures):
+    """A Perception Neuron file whose every joint has six channels: its bones are its OFFSETs'
+    (not twice them) and the postures come back within the tolerance."""
+    _, _, truth = postures
+    path, unit = write_rig(tmp_path, "Perception Neuron", postures)
+    three = read_bvh(path, unit)
+    path.write_text(every_joint_moves(path.read_text()))
+    assert path.read_text().count("CHANNELS 6") == path.read_text().count("CHANNELS")
+    six = read_bvh(path, unit)
+    np.testing.assert_allclose(six.points, three.points, atol=1e-6)
+    table, said = scored(path, None)
+    assert "(bvh: Perception Neuron rig, up y, units cm, told from the legs)" in said, said
+    for column in ANGLES:
+        got = table[column].to_numpy(dtype=float)
+        seen = np.isfinite(got)
+        assert seen.any() or column not in SEEN, column
+        error = np.abs((got[seen] - truth[column][seen] + 180.0) % 360.0 - 180.0)
+        assert error.max(initial=0.0) < TOLERANCE_DEG, (column, error.max())

@@ -127,20 +127,24 @@ def test_empty_inputs_exit_2(tmp_path, content, message):
     assert not (tmp_path / "out.csv").exists()
 
 
-def test_keypoint_output_with_unseen_columns_is_refused_with_the_way_out(tmp_path):
-    # ZED BODY_34 cannot see the wrists: `score --keypoints` leaves those cells empty, and
-    # `score --input` on its output names where they come from and the flag that fills them.
+def test_keypoint_output_without_its_unseen_column_is_refused_with_the_way_out(tmp_path):
+    # ZED BODY_34 cannot see the wrists: `score --keypoints` leaves those cells empty and names
+    # them in its 'unseen' column (which `score --input` reads: tests/test_capture_formats.py);
+    # without that column, an empty cell is refused naming where it comes from and the ways out.
     scored = tmp_path / "keypoints-scored.csv"
     keypoints = EXAMPLE.parent / "keypoints" / "zed34.npz"
     assert main(["score", "--keypoints", str(keypoints), "--format", "zed34", "--output",
                  str(scored)]) == 0
+    pd.read_csv(scored, dtype=str, keep_default_na=False).drop(columns="unseen").to_csv(
+        scored, index=False)
     again = run_cli("score", "--input", str(scored), "--output", str(tmp_path / "again.csv"))
     assert again.returncode == 2
     line = again.stderr.strip()
     assert "\n" not in line and ": an empty cell is not a number" in line
     assert line.endswith("an empty cell is a column the capture could not see (`score "
-                         "--keypoints` leaves them empty): score the keypoints again with "
-                         "--assume COLUMN=VALUE, or fill the column")
+                         "--keypoints` leaves them empty and names them in its 'unseen' "
+                         "column): keep that column, score the keypoints again with --assume "
+                         "COLUMN=VALUE, or fill the cell")
     assert not (tmp_path / "again.csv").exists()
 
 

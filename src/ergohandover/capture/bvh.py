@@ -10,7 +10,8 @@ landmarks of any other rig.
 
 Rotations: a joint's local rotation is the product of its rotation channels in the order the
 file lists them (intrinsic: ``R = R_first @ R_second @ R_third``), in degrees; its frame is its
-parent's turned by that rotation and moved by its OFFSET plus any position channels.
+parent's turned by that rotation and moved by its OFFSET plus any position channels, unless
+those restate the OFFSETs (:func:`_restated`).
 """
 
 from __future__ import annotations
@@ -46,7 +47,6 @@ def axis_rotation(axis: int, degrees: np.ndarray) -> np.ndarray:
     out[..., j, j], out[..., j, k] = c, -s
     out[..., k, j], out[..., k, k] = s, c
     return out
-
 
 
 # -- reading -----------------------------------------------------------------------------------
@@ -250,13 +250,15 @@ def _forward(nodes: list[_Node], motion: np.ndarray) -> np.ndarray:
     pos = np.zeros((len(nodes), n, 3))
     rot = np.zeros((len(nodes), n, 3, 3))
     column = 0
+    restated = _restated(nodes, motion)
     for j, node in enumerate(nodes):
         move = np.broadcast_to(np.asarray(node.offset, dtype=np.float64), (n, 3)).copy()
         turn = np.broadcast_to(np.eye(3), (n, 3, 3))
         for channel in node.channels:
             axis = "XYZ".index(channel[0])
             if channel.endswith("position"):
-                move[:, axis] += motion[:, column]
+                if node.parent < 0 or not restated:
+                    move[:, axis] += motion[:, column]
             else:
                 turn = turn @ axis_rotation(axis, motion[:, column])
             column += 1
@@ -267,6 +269,25 @@ def _forward(nodes: list[_Node], motion: np.ndarray) -> np.ndarray:
             pos[j] = pos[node.parent] + np.einsum("nab,nb->na", parent, move)
             rot[j] = parent @ turn
     return pos.transpose(1, 0, 2)
+
+
+def _restated(nodes: list[_Node], motion: np.ndarray) -> bool:
+    """Whether the position channels below the root restate the OFFSETs (each joint's whole
+    local translation, as Perception Neuron's exports "with displacement" write every joint)
+    rather than move them: they lie nearer the OFFSETs than zero (median frames, summed over
+    the joints). Added to the OFFSETs, restated channels would double every bone."""
+    near_offset = near_zero = column = 0
+    for node in nodes:
+        moves = [(column + k, "XYZ".index(c[0])) for k, c in enumerate(node.channels)
+                 if c.endswith("position")]
+        column += len(node.channels)
+        if node.parent < 0 or not moves:
+            continue
+        at, axes = (list(x) for x in zip(*moves, strict=True))
+        offset = np.asarray(node.offset, dtype=np.float64)[axes]
+        near_offset += np.median(np.linalg.norm(motion[:, at] - offset, axis=1))
+        near_zero += np.median(np.linalg.norm(motion[:, at], axis=1))
+    return bool(near_offset < near_zero)
 
 
 class JointMapError(KeypointFileError):
@@ -427,6 +448,3 @@ def read_bvh(path: str | os.PathLike, units: str = "m",
     motion = parse_bvh(path, units, radians)
     fmt = bvh_format(motion.names, str(path), motion.points, motion.parents, joint_map)
     return Keypoints(np.arange(1, len(motion.points) + 1), motion.points, fmt)
-
-
-# -- writing -----------------------------------------------------------------------------------

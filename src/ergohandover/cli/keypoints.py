@@ -146,6 +146,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     """The table of ``--keypoints`` read whole and what it holds, every check made before
     scoring."""
     from ..capture import capture, capture_scores
+    from ..capture.bones import check_format
     from ..capture.captured import MeasuredColumnError
     from ..capture.checks import check_keypoints, infer_unit
     from ..capture.readers import read_keypoints
@@ -162,6 +163,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
             raise InputError(f"--joint-map {args.joint_map.text}: {exc}") from None
     else:
         kp = read_keypoints(typed, keypoint_format_of(args), units)
+    check_format(kp, typed)  # a wrong joint order, before any check that names --up or --units
     said = f"--units {args.units}"
     if args.units is None:
         name, metres = infer_unit(kp, typed)
@@ -242,6 +244,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     """Read, check, score and write a file a part (:func:`part_frames`) at a time; every row
     and the summary line are those of :func:`keypoint_scores`, and nothing is written unless
     every frame is."""
+    from ..capture.bones import check_format
     from ..capture.captured import MeasuredColumnError
     from ..capture.chunks import npy_parts, wide_csv_parts
     from ..capture.large import (
@@ -251,7 +254,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
         scored_parts,
         unit_of_legs,
     )
-    from ..capture.readers import unit_scale
+    from ..capture.readers import Keypoints, unit_scale
 
     typed = str(args.keypoints)
     units = args.units or "m"
@@ -262,6 +265,9 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     with bar("read", estimate) as shown:
         read = read_parts(source, fmt, args.frames, shown.update)
     try:
+        first = next(read.cache.parts(), None)  # the joint order, told from the first part
+        if first is not None:
+            check_format(Keypoints(read.kept[:len(first)], first, fmt), typed)
         repeated_frame(read.frames, typed)
         said, metres = f"--units {args.units}", None
         if args.units is None:

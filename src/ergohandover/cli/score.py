@@ -11,11 +11,10 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from ..ergonomics import SCORE_COLUMNS, ScoringSettings, score_postures
+from ..ergonomics import ScoringSettings
 from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, REQUIRED_COLUMNS
 from ..io.atomic import atomic_write_csv
-from ..io.csv_input import InputError, numeric_columns
-from ..io.posture_csv import read_postures
+from ..io.csv_input import InputError
 from . import defaults
 from .keypoints import MAX_FRAMES, score_keypoints
 from .options import (
@@ -24,15 +23,13 @@ from .options import (
     add_lift_arguments,
     add_shift_arguments,
     add_yes_argument,
-    body_from_args,
     dataclass_from_args,
-    lift_from_args,
-    model_flags,
     run_folder,
     shift_from_args,
     writable,
 )
 from .parser import given
+from .score_input import WORKLOAD_FLAGS, input_scores
 from .values import BadValue, choice, existing_file, number, output_file, whole
 
 KEYPOINT_FORMATS = ("h36m17", "coco17", "mediapipe33", "zed34", "smpl24", "bvh")
@@ -58,7 +55,8 @@ Score postures with REBA (Hignett & McAtamney 2000), RULA (McAtamney & Corlett 1
 paper's additive postural score, given one of three ways:
 
   --input      a Posture CSV: one posture per row, angles in degrees, flexion + (its columns:
-               docs/architecture.md, "File contracts"); writes its columns and every score.
+               docs/architecture.md, "File contracts"); writes its columns and every score
+               (a --keypoints output: its scores and intervals again, from its unseen cells).
   --keypoints  3D keypoints of a pose estimator or motion capture (--format; CSV wide or long,
                NPY/NPZ, MediaPipe JSON, BVH): writes per frame the Posture columns measured
                from them (empty where the format cannot see a column), the unseen columns, and
@@ -231,9 +229,7 @@ def run(args: argparse.Namespace) -> int:
                          f"--{'keypoints' if args.keypoints else 'items'} (only with --input, "
                          "a Posture CSV's angles, or --format bvh, a BVH file's rotations)")
     if args.input is None:
-        workload = [f for f in (*model_flags(), "lift_frequency", "lift_duration",
-                                "lift_destination", "rate", "hold", "shift_hours")
-                    if f in flags]
+        workload = [f for f in WORKLOAD_FLAGS if f in flags]
         if workload:
             raise InputError(f"--{workload[0].replace('_', '-')} cannot be used with "
                              f"--{'keypoints' if args.keypoints else 'items'} (only with "
@@ -248,15 +244,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.items is not None:
         table, what = item_scores(args.items)
     else:
-        name = "standard input" if args.input == "-" else args.input
-        text, posture = read_postures(args.input, what=name, radians=args.radians,
-                                      radians_flag="--radians")
-        scores = pd.DataFrame(score_postures(posture, settings))
-        work = input_workload(text, posture, args, plan)
-        passthrough = text.drop(columns=[c for c in text.columns
-                                         if c in SCORE_COLUMNS or c in work.columns])
-        table = pd.concat([passthrough, scores, work], axis=1)
-        what = f"{len(text)} postures"
+        table, what = input_scores(args, settings, plan)
     # Only now, everything read and scored: a bad input leaves no folder behind.
     output = args.output or str(run_folder("score") / "scores.csv")
     if output == "-":
@@ -267,30 +255,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def input_workload(text: pd.DataFrame, posture, args: argparse.Namespace,
-                   plan) -> pd.DataFrame:
-    """OWAS, the back load of the body the flags describe, a shift of handovers (``plan``)
-    at each posture and, where the file gives the box's location (``x, y, z``, worker frame),
-    the lifting equation."""
-    from ..workload import Levers, shift_table, workload_table
-
-    table = pd.DataFrame({name: posture[name] for name in posture})
-    located = [c for c in ("x", "y", "z") if c in text.columns]
-    if located and len(located) < 3:
-        missing = sorted({"x", "y", "z"} - set(located))
-        raise InputError(f"{args.input}: has {', '.join(located)} but not {', '.join(missing)} "
-                         "(the box's location needs all three, or none)")
-    allowed = {"x": "a finite coordinate in metres", "y": "a height in metres >= 0",
-               "z": "a finite coordinate in metres"}  # y: the hands' height, above the floor
-    for c, values in numeric_columns(text, {c: allowed[c] for c in located}, args.input).items():
-        bad = np.flatnonzero(~np.isfinite(values) | ((values < 0) if c == "y" else False))
-        if bad.size:
-            raise InputError(f"{args.input}: row {bad[0] + 1}, column '{c}': "
-                             f"{text[c].iloc[bad[0]]} is not allowed (expected {allowed[c]})")
-        table[c] = values
-    body = body_from_args(args)
-    return pd.concat([workload_table(table, Levers.of(body), lift_from_args(args)),
-                      shift_table(table, body, plan)], axis=1)
 
 
 def item_scores(source: str) -> tuple[pd.DataFrame, str]:

@@ -182,6 +182,7 @@ class AnswerReader:
 
     def _frame(self, text: str) -> Answer:
         from ..capture import capture, capture_scores
+        from ..capture.bones import check_format
         from ..capture.checks import check_keypoints
         from ..capture.readers import Keypoints
 
@@ -195,7 +196,9 @@ class AnswerReader:
             raise Refused(f"a frame of {values.size} values: expected {self.expected}")
         points = values.reshape(1, len(fmt.joints), 3)
         try:
-            check_keypoints(Keypoints(np.array([1]), points, fmt), up, "unseen", "the frame")
+            frame = Keypoints(np.array([1]), points, fmt)
+            check_format(frame, "the frame", "--answer-format keypoints:{}")
+            check_keypoints(frame, up, "unseen", "the frame")
             captured = capture(points, fmt, up, assume=self.task)
         except ErgohandoverError as exc:
             raise Refused(str(exc)) from None
