@@ -15,9 +15,11 @@ from ergohandover.landscape.store import landscape_of
 from ergohandover.robustness.posture_error import ErrorModel
 from ergohandover.search import Budget, make, run
 from ergohandover.search.fitted_twin import (
+    BODY_SD_DEG,
     FIELD_ANGLES,
     BodyPosterior,
     TwinLibrary,
+    angle_error,
 )
 from ergohandover.search.prior import Prior
 from ergohandover.study.personalise.measured import MeasuredScores
@@ -239,8 +241,9 @@ def test_an_angle_measured_worse_weighs_less_and_a_restricted_body_starts_less_l
     worse = {a: (12.0 if a == "right_upper_arm_flexion" else 2.0) for a in FIELD_ANGLES}
     twins = TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
                         worker=(BODIES[1].stature_m, "male"), angle_sd_deg=worse)
-    assert twins.angle_sd_deg[FIELD_ANGLES.index("right_upper_arm_flexion")] == 12.0
-    assert twins.angle_sd_deg[FIELD_ANGLES.index("trunk_flexion")] == 2.0
+    variance = np.diag(twins.angle_covariance)
+    assert variance[FIELD_ANGLES.index("right_upper_arm_flexion")] == 144.0
+    assert variance[FIELD_ANGLES.index("trunk_flexion")] == 4.0
     cell = int(np.flatnonzero(landscape(2).feasible & landscape(1).feasible)[0])
     # The same residual on the badly measured angle costs a body less than on a good one.
     costs = []
@@ -303,3 +306,34 @@ def test_a_searcher_without_a_model_recommends_from_the_workers_model_not_a_luck
     again = worker_model_recommendations(library(1), PRIOR,
                                          [heard[0], heard[0], *heard[1:]], [3, len(heard)])
     assert again[len(heard)] == best
+
+
+def test_an_instruments_bias_and_correlated_errors_weigh_the_bodies_as_its_density_does():
+    from scipy.stats import multivariate_normal
+
+    from ergohandover.robustness.measured_error import MEASURED_ERROR
+
+    bias, covariance = angle_error(MEASURED_ERROR)
+    flexion, bend = FIELD_ANGLES.index("trunk_flexion"), FIELD_ANGLES.index("trunk_side_bend")
+    assert covariance[flexion, bend] == pytest.approx(0.5 * 6.6 ** 2)  # one sensor, one error
+    between = (BODIES[1].stature_m + BODIES[2].stature_m) / 2  # both men stay likely
+    twins = TwinLibrary(GRID, EVALUATORS, landscape, "paper_postural", NAMES,
+                        worker=(between, "male"), error=MEASURED_ERROR)
+    cell = int(np.flatnonzero(landscape(1).feasible & landscape(2).feasible)[0])
+    told = answer_at(1, cell)
+    for angle in ("trunk_flexion", "trunk_side_bend", "right_upper_arm_flexion"):
+        told.posture[angle] += 6.0  # an error shared by the trunk's sensor, and the arm's
+    posterior = BodyPosterior(twins, PRIOR)
+    before = posterior.log_weight.copy()
+    posterior.update(cell, told)
+    still = int(np.flatnonzero((posterior.shifts == 0).all(axis=1))[0])  # no displacement
+    step = (posterior.log_weight - before)[[1, 2], still]
+    measured = np.array([told.posture[a] for a in FIELD_ANGLES]) - bias
+    joint = covariance + np.eye(len(FIELD_ANGLES)) * BODY_SD_DEG ** 2
+    density = [multivariate_normal(twins.angles([cell], [k])[0, 0], joint).logpdf(measured)
+               for k in (1, 2)]
+    # The two bodies' odds move as the instrument's density says, correlations included.
+    assert step[1] - step[0] == pytest.approx(density[1] - density[0], abs=1e-6)
+    alone = [multivariate_normal(twins.angles([cell], [k])[0, 0],
+                                 np.diag(np.diag(joint))).logpdf(measured) for k in (1, 2)]
+    assert abs((alone[1] - alone[0]) - (density[1] - density[0])) > 1e-3

@@ -95,3 +95,32 @@ def test_the_fitted_twin_learns_from_scores_alone(tmp_path):
     assert done.returncode == 0, done.stderr
     assert len(model_lines(done.stdout)) == 3
     assert [h.get("posture") for h in history(tmp_path / "s")] == [None, None, None]
+
+
+def test_an_imu_suits_angles_weigh_the_fitted_twin_and_a_session_keeps_its_instrument(tmp_path):
+    output = tmp_path / "imu"
+    done = run_cli("personalise", "--oracle", "twin", *WORKER, *SMALL, "--trials", "3",
+                   "--angle-error", "imu", "--output", str(output))
+    assert done.returncode == 0, done.stderr
+    state = json.loads((output / "state.json").read_text())
+    assert state["settings"]["angle_error"] == "imu" and len(state["history"]) == 3
+    # Its answers were weighed as an IMU's: resumed as if measured with 5 degrees, refused.
+    again = run_cli("personalise", "--oracle", "twin", *WORKER, *SMALL, "--trials", "4",
+                    "--output", str(output))
+    assert again.returncode == 2 and again.stderr.count("\n") == 1, again.stderr
+    assert "angle_error" in again.stderr
+    assert len(history(output)) == 3
+
+
+@pytest.mark.parametrize(("flags", "says"), [
+    (["--angle-error", "-1"], "--angle-error -1: not allowed (expected an SD in degrees >= 0, "
+                              "or imu)"),
+    (["--angle-error", "imu", "--searcher", "cmaes"], "--angle-error imu cannot be used with "
+                                                      "--searcher cmaes"),
+])
+def test_an_angle_error_that_cannot_apply_is_refused_in_one_line(tmp_path, flags, says):
+    done = run_cli("personalise", "--oracle", "twin", *WORKER, *SMALL, *flags, "--output",
+                   str(tmp_path / "out"))
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert says in done.stderr
+    assert not (tmp_path / "out").exists()

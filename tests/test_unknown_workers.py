@@ -62,6 +62,14 @@ def test_unknown_workers_are_answered_as_the_headline_only():
     assert part.runs_of(other, "in-model") == part.measured_runs
 
 
+def test_the_population_is_answered_by_the_published_imu_as_often_as_by_the_headline():
+    part = PersonaliseConfig()
+    imu, scaled = Answers("imu", 1.0), Answers("imu", 2.0)
+    assert part.runs_of(imu, "in-model") == part.headline_runs
+    assert part.runs_of(imu, "gaze off") == part.runs_of(scaled, "in-model") == part.measured_runs
+    assert part.runs_of(imu, "wrist cannot flex") == 0
+
+
 def test_imu_answers_are_the_robustness_parts_measured_error_and_weigh_each_angle_by_its_sd():
     imu = Answers("imu", 1.0)
     assert imu.error == MEASURED_ERROR and imu.label == "IMU"

@@ -27,7 +27,7 @@ from .options import (
 )
 from .parser import given
 from .personalise_outputs import report, write_outputs
-from .values import boundary, choice, number, output_file, rule, whole
+from .values import BadValue, boundary, choice, number, output_file, rule, whole
 
 DEFAULT_SEARCHER = "fitted-twin"
 """The searcher whose recommendation was most often a worker's true optimum in the
@@ -82,6 +82,29 @@ recommendation.csv and manifest.json are written into --output (default: a new
 runs/personalise/<timestamp>/). See docs/personalise.md."""
 
 
+ANGLE_ERROR = "5"
+"""The answers' angle error a fitted twin assumes by default: 5° SD on every angle, the
+personalisation study's headline answers."""
+
+
+def angle_error(text: str) -> str:
+    """``--angle-error``: a finite SD in degrees >= 0, or ``imu``."""
+    if text.strip().lower() == "imu":
+        return "imu"
+    try:
+        return f"{number(0, None, 'deg')(text):g}"
+    except BadValue:
+        raise BadValue(text, "not allowed (expected an SD in degrees >= 0, or imu)") from None
+
+
+def error_model(text: str):
+    """The error model ``--angle-error`` names."""
+    from ..robustness.measured_error import MEASURED_ERROR
+    from ..robustness.posture_error import ErrorModel
+
+    return MEASURED_ERROR if text == "imu" else ErrorModel(float(text))
+
+
 def add_parser(subparsers) -> None:
     from ..landscape.grid import BOUNDARY_NAMES
 
@@ -107,6 +130,12 @@ def add_parser(subparsers) -> None:
                          "measured: FORMAT's joints, x, y, z each in metres (FORMAT: h36m17, "
                          "coco17, mediapipe33, zed34, smpl24; UP: its up axis, default the "
                          "format's), scored as 'ergohandover score --keypoints' scores it")
+    answers.add_argument("--angle-error", type=angle_error, default=ANGLE_ERROR, metavar="DEG|imu",
+                         help="how the answers' angles were measured, for --searcher "
+                         "fitted-twin's likelihood: every angle's SD in degrees, or imu (an "
+                         "IMU suit: Schall et al. 2016's bias and SDs, errors correlated "
+                         f"within a segment and between sides) (default: {ANGLE_ERROR}, the "
+                         "study's headline answers)")
     answers.add_argument("--poll", type=number(0, None, "s", above=True), default=POLL_S,
                          metavar="S", help="with --oracle file: seconds between looks at "
                          f"--answer-file (default: {POLL_S:g})")
@@ -194,6 +223,9 @@ def check(args: argparse.Namespace) -> None:
             if dest in flags:
                 raise InputError(f"{flag} cannot be used with --answers pairwise (a preference "
                                  "is neither a score nor a frame)")
+    if "angle_error" in flags and not entry(args.searcher).twins:
+        raise InputError(f"--angle-error {args.angle_error} cannot be used with --searcher "
+                         f"{args.searcher} (only a fitted twin weighs the answers' angles)")
     if "answer_format" in flags and args.oracle == "twin":
         raise InputError("--answer-format cannot be used with --oracle twin (only with --oracle "
                          "ask or file)")
@@ -313,7 +345,8 @@ def resolve(args: argparse.Namespace):
         if entry(args.searcher).twins and prior is not None:
             from ..search.fitted_twin import survey_library
 
-            twins = survey_library(evaluator, grid, args.objective, args.seed)
+            twins = survey_library(evaluator, grid, args.objective, args.seed,
+                                   error=error_model(args.angle_error))
         searcher = make(args.searcher, grid, args.seed, prior, twins=twins)
     except ConfigError as exc:
         raise InputError(f"--searcher {args.searcher}: {exc}") from None
@@ -324,6 +357,8 @@ def resolve(args: argparse.Namespace):
                 "prior": None if population is None else population.to_dict()}
     if args.answers == "pairwise":  # (a session of scores keeps an earlier version's settings)
         settings["answers"] = "pairwise"
+    if twins is not None and args.angle_error != ANGLE_ERROR:  # (likewise)
+        settings["angle_error"] = args.angle_error
     return evaluator, grid, prior, searcher, settings
 
 

@@ -16,11 +16,12 @@ candidate's at the displaced cell) and where the worker's optimum lies (the cand
   moves an optimum for the stature difference (:attr:`~.prior.Prior.per_metre`), spread
   :data:`SHIFT_SD_M`.
 - **Likelihood** of each handover: every angle the answer measured that a landscape holds
-  (:data:`FIELD_ANGLES`; NaN: unseen, left out) against the hypothesis's angles there, Gaussian
-  with the instrument's SD and the bodies' own spread (:data:`BODY_SD_DEG`) added in
-  quadrature; an answer of a score alone, Gaussian on the score (:data:`SCORE_SD`); a
-  hypothesis wrong about whether the worker could take the box there is charged
-  :data:`FEASIBILITY_MISS`.
+  (:data:`FIELD_ANGLES`; NaN: unseen, left out), less the instrument's bias, against the
+  hypothesis's angles there, jointly Gaussian with the instrument's covariance (its SDs and the
+  correlation of errors one sensor shares: :func:`angle_error`) and the bodies' own spread
+  (:data:`BODY_SD_DEG`) added on each angle; an answer of a score alone, Gaussian on the score
+  (:data:`SCORE_SD`); a hypothesis wrong about whether the worker could take the box there is
+  charged :data:`FEASIBILITY_MISS`.
 - **Recommendation** (:meth:`FittedTwinSearcher.recommend`): the cell with the highest posterior
   probability of being the worker's optimum, and that probability; a single low reading moves
   it only as far as it moves the posterior.
@@ -41,6 +42,8 @@ from ..errors import ConfigError
 from ..landscape import Landscape
 from ..landscape.grid import Grid
 from ..landscape.sweep import ANGLES as LANDSCAPE_ANGLES
+from ..robustness.measured_error import MeasuredError
+from ..robustness.posture_error import ANGLE_COLUMNS, ErrorModel
 from ..twin.evaluate import Evaluator
 from .cells import NewCellSearcher, prior_point
 from .prior import Prior
@@ -85,6 +88,18 @@ both upper arms' flexion and elbows. The others a measured answer carries would 
 candidate's posture solved at every handover."""
 
 
+def angle_error(error: ErrorModel | MeasuredError) -> tuple[np.ndarray, np.ndarray]:
+    """An instrument's bias (:data:`FIELD_ANGLES`,) [deg] and the covariance of its errors
+    (:data:`FIELD_ANGLES` squared) [deg²]: an IMU suit's errors are correlated within a
+    segment and between sides, so ten handovers' trunk angles are not ten independent
+    readings of each."""
+    index = [ANGLE_COLUMNS.index(a) for a in FIELD_ANGLES]
+    if isinstance(error, MeasuredError):
+        sd = error.sd()[index]
+        return error.bias()[index], error.correlation()[np.ix_(index, index)] * np.outer(sd, sd)
+    return np.zeros(len(index)), np.eye(len(index)) * error.sd_deg ** 2
+
+
 class TwinLibrary:
     """Candidate twins of one worker on one grid.
 
@@ -101,13 +116,16 @@ class TwinLibrary:
             candidate's.
         angle_sd_deg: the SD of the instrument that measures the answers' angles [deg]: one
             for every angle, or each angle's by name (an angle not named: the largest given).
+        error: the instrument's error model, when known (its bias and covariance replace
+            ``angle_sd_deg``: :func:`angle_error`).
     """
 
     def __init__(self, grid: Grid, evaluators: Sequence[Evaluator],
                  landscape: Callable[[int], Landscape], objective: str,
                  names: Sequence[str] | None = None, cache: dict | None = None,
                  worker: tuple[float, str] | None = None,
-                 angle_sd_deg: float | Mapping[str, float] = 5.0):
+                 angle_sd_deg: float | Mapping[str, float] = 5.0,
+                 error: ErrorModel | MeasuredError | None = None):
         if not evaluators:
             raise ConfigError("a twin library needs at least one candidate")
         given = dict(angle_sd_deg) if isinstance(angle_sd_deg, Mapping) else {
@@ -124,8 +142,11 @@ class TwinLibrary:
         first = self.evaluators[0].body
         self.worker = worker or (first.stature_m, first.sex)
         widest = max(given.values(), default=0.0)
-        self.angle_sd_deg = np.array([float(given.get(a, widest)) for a in FIELD_ANGLES])
-        """(:data:`FIELD_ANGLES`,) the instrument's SD of each angle [deg]."""
+        self.angle_bias_deg, self.angle_covariance = (np.zeros(len(FIELD_ANGLES)), np.diag(
+            [float(given.get(a, widest)) ** 2 for a in FIELD_ANGLES])) if error is None else \
+            angle_error(error)
+        """(:data:`FIELD_ANGLES`,) the instrument's bias [deg] and (:data:`FIELD_ANGLES`
+        squared) the covariance of its errors [deg²]."""
 
     def __len__(self) -> int:
         return len(self.evaluators)
@@ -202,7 +223,7 @@ class BodyPosterior:
         self.log_weight[restricted] += math.log(RESTRICTED_PRIOR)
         self.log_weight[~same] = -np.inf
         self._p_optimal: np.ndarray | None = None
-        self.angle_sd2 = library.angle_sd_deg ** 2 + BODY_SD_DEG ** 2  # (angles,)
+        self.covariance = library.angle_covariance + np.eye(len(FIELD_ANGLES)) * BODY_SD_DEG ** 2
 
     @property
     def weights(self) -> np.ndarray:
@@ -238,8 +259,10 @@ class BodyPosterior:
             seen = np.isfinite(measured)
             predicted = self.library.angles(sources, alive)  # (alive, D, angles)
             feasible = ~np.isnan(predicted).all(axis=2) & inside[None, :]
-            residual = np.where(seen, predicted - np.where(seen, measured, 0.0), 0.0)
-            fit = -0.5 * (np.nan_to_num(residual, nan=0.0) ** 2 / self.angle_sd2).sum(axis=2)
+            residual = np.nan_to_num(predicted[..., seen] - (
+                measured - self.library.angle_bias_deg)[seen], nan=0.0)
+            precision = np.linalg.inv(self.covariance[np.ix_(seen, seen)])
+            fit = -0.5 * np.einsum("kdi,ij,kdj->kd", residual, precision, residual)
             step[alive] = np.where(feasible, fit, FEASIBILITY_MISS)
         else:
             values = np.array([self.library.values(int(k))[sources] for k in alive])
@@ -341,12 +364,14 @@ class FittedTwinSearcher(NewCellSearcher):
 
 
 def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
-                   progress: bool = True, angle_sd_deg: float = 5.0) -> TwinLibrary:
+                   progress: bool = True, angle_sd_deg: float = 5.0,
+                   error: ErrorModel | MeasuredError | None = None) -> TwinLibrary:
     """A worker's candidate twins for ``ergohandover personalise``: the twin the session was
     given, the same twin with each impairment (:data:`~..twin.joint_limits.IMPAIRMENTS`), and
     the :data:`CANDIDATES` bodies nearest its stature among :data:`SURVEY_DRAWS` drawn from the
     survey's body model for its sex (seeded), with its task and settings. A candidate's
-    landscape is swept (or read from the cache) when first needed."""
+    landscape is swept (or read from the cache) when first needed; the answers' angles are
+    measured with ``error`` (else ``angle_sd_deg`` on each)."""
     from ..landscape.store import landscape_of
     from ..twin.anthropometry import BodySpec
     from ..twin.joint_limits import IMPAIRMENTS, impaired
@@ -362,4 +387,4 @@ def survey_library(evaluator: Evaluator, grid: Grid, objective: str, seed: int,
     return TwinLibrary(grid, evaluators, lambda i: landscape_of(evaluators[i], grid,
                                                               progress=progress),
                        objective, names, worker=(body.stature_m, body.sex),
-                       angle_sd_deg=angle_sd_deg)
+                       angle_sd_deg=angle_sd_deg, error=error)

@@ -12,7 +12,7 @@ from ...twin.anthropometry import BodySpec
 from ...twin.evaluate import Evaluator
 from ...twin.task import TaskSpec
 from ..typed_json import setting
-from .unknown_workers import UNKNOWN_WORKERS
+from .unknown_workers import IN_MODEL, UNKNOWN_WORKERS
 
 MEASURED_VARIANTS = ("gaze off", "effort free share 7.9% (sustained holds)",
                      "ankle+knee+hip x0.5")
@@ -67,8 +67,9 @@ class PersonaliseConfig:
     measured_imu: tuple[float, ...] = setting((1.0,), lo=0)
     measured_budgets: tuple[int, ...] = setting((5, 10, 25), lo=2)
     # Runs per worker: `headline_runs` under the headline's answers (postures measured with
-    # `headline_sd` of error), `measured_runs` under the others (configs/personalise_full.json:
-    # 5 under every answer model).
+    # `headline_sd` of error; for the population's own workers also the IMU suit's error at its
+    # published SDs, the other answers a target is set for), `measured_runs` under the others
+    # (configs/personalise_full.json: 5 under every answer model).
     measured_runs: int = setting(1, lo=0)
     headline_sd: float = setting(5.0, lo=0, unit="deg")
     headline_runs: int = setting(5, lo=0)
@@ -108,11 +109,13 @@ class PersonaliseConfig:
 
     def runs_of(self, answers, twin: str | None = None) -> int:
         """Runs per worker under an answer model (:class:`.measured_answers.Answers`); a worker
-        the prior does not know (``twin``: its kind) runs under the headline's only."""
+        the prior does not know (``twin``: its kind) runs under the headline's only, and the
+        population's own (``in-model``) also under the IMU suit's published error."""
         headline = answers.kind == "posture" and answers.level == self.headline_sd
         if twin in UNKNOWN_WORKERS:
             return self.headline_runs if headline else 0
-        return self.headline_runs if headline else self.measured_runs
+        published_imu = answers.kind == "imu" and answers.level == 1 and twin == IN_MODEL
+        return self.headline_runs if headline or published_imu else self.measured_runs
 
     def budgets_of(self, searcher: str, measured: bool = False) -> list[int]:
         """The budgets a searcher is reported at (``measured``: with answers as a site gets

@@ -63,11 +63,10 @@ from ...search.prior import Prior
 from ...twin.evaluate import Evaluator
 from .measured import MeasuredScores, RatedScores, rater_sd
 from .sessions import success_interval, values_for
-from .unknown_workers import group_of
+from .unknown_workers import IN_MODEL, OUT_OF_MODEL, group_of
 
 KINDS = ("posture", "rater", "imu")
 RULES = ("model", "model, stopped", "lowest", "confirm")
-IN_MODEL, OUT_OF_MODEL = "in-model", "out-of-model"
 BLOCK = 3
 """A worker's postures are solved in aligned cubes of this edge [cells] on a miss: searchers
 propose near where they proposed before, and the solver's cost is mostly per call."""
@@ -316,7 +315,7 @@ def run_measured_job(job: MeasuredJob) -> list[dict]:
         body = job.evaluator.body
         twins = candidate_library(job.candidates, job.grid, job.objective,
                                   worker=(body.stature_m, body.sex),
-                                  angle_sd_deg=angle_sds(job.answers))
+                                  angle_sd_deg=angle_sds(job.answers), error=job.answers.error)
     rows = []
     largest = max(job.budgets)
     model = entry(job.searcher).model

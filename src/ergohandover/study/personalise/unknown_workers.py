@@ -25,6 +25,9 @@ from ...twin.joint_limits import IMPAIRMENTS, impaired
 
 IMPAIRED, STEPS_OR_PROPORTIONS = "impaired", "steps or other proportions"
 """The groups these workers are reported in (beside in-model and out-of-model)."""
+IN_MODEL, OUT_OF_MODEL = "in-model", "out-of-model"
+"""The population's own workers (the prior was fitted to twins like theirs), and the same
+workers with a modelling choice of the sensitivity study changed."""
 
 
 def _impaired(name: str) -> Callable[[Evaluator], Evaluator]:
