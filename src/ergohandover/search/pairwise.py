@@ -156,6 +156,18 @@ class PairwiseSearcher(NewCellSearcher):
         best = feasible.index(most_preferred(model, answers))
         return float((samples.argmax(axis=1) == best).mean())
 
+    def candidates(self, best: int | None) -> np.ndarray:
+        """The candidate cells of a proposal, sorted: :data:`CANDIDATES` drawn around the
+        prior and as many around ``best`` (the most preferred cell; None: the prior again),
+        those already told left out."""
+        around = self._centre if best is None else self.index(best)
+        points = np.concatenate([
+            self._rng.normal(self._centre, self._sd, (CANDIDATES, 3)),
+            self._rng.normal(around, np.maximum(self._sd / 2, 1.0), (CANDIDATES, 3))])
+        index = np.clip(np.rint(points), 0, self.shape - 1).astype(int)
+        cells = np.unique(np.ravel_multi_index(tuple(index.T), self.grid.shape))
+        return np.array([c for c in cells.tolist() if c not in self.told], dtype=int)
+
     def _propose(self) -> int:
         if not self.told:
             first = (self.snap(self._centre) if self.prior is not None
@@ -164,13 +176,7 @@ class PairwiseSearcher(NewCellSearcher):
         told, answers = self.cells, self.told_answers
         model = model_of(self.grid, told, answers)  # one fit serves the choice and the draw
         best = most_preferred(model, answers)
-        around = self.index(told[best]) if best is not None else self._centre
-        points = np.concatenate([
-            self._rng.normal(self._centre, self._sd, (CANDIDATES, 3)),
-            self._rng.normal(around, np.maximum(self._sd / 2, 1.0), (CANDIDATES, 3))])
-        index = np.clip(np.rint(points), 0, self.shape - 1).astype(int)
-        cells = np.unique(np.ravel_multi_index(tuple(index.T), self.grid.shape))
-        cells = np.array([c for c in cells.tolist() if c not in self.told], dtype=int)
+        cells = self.candidates(None if best is None else told[best])
         if cells.size == 0:
             return self.nearest_new(self.index(told[-1]))
         if model is None:
