@@ -100,6 +100,14 @@ def angle_error(error: ErrorModel | MeasuredError) -> tuple[np.ndarray, np.ndarr
     return np.zeros(len(index)), np.eye(len(index)) * error.sd_deg ** 2
 
 
+def named_error(name: str) -> ErrorModel | MeasuredError:
+    """An instrument by name: ``imu`` (the published IMU suit's error,
+    :data:`~..robustness.measured_error.MEASURED_ERROR`) or an SD in degrees on every angle."""
+    from ..robustness.measured_error import MEASURED_ERROR
+
+    return MEASURED_ERROR if name == "imu" else ErrorModel(float(name))
+
+
 class TwinLibrary:
     """Candidate twins of one worker on one grid.
 
