@@ -8,24 +8,12 @@ import math
 import numpy as np
 import pytest
 import torch
+from test_pairwise import GRID, OPTIMUM, PRIOR, bowl
 
 from ergohandover.envs.scores import ArrayScores
-from ergohandover.landscape.grid import Grid
 from ergohandover.search import Budget, make, replay, run
 from ergohandover.search.pairwise_botorch import BotorchPairwiseSearcher
 from ergohandover.search.preferences import BETTER, SAME, WORSE
-from ergohandover.search.prior import Prior
-from ergohandover.twin.task import Boundary
-
-GRID = Grid(Boundary((-0.3, 0.3), (0.8, 1.4), (0.2, 0.6)), 0.02)
-OPTIMUM = np.array([0.06, 1.14, 0.44])
-PRIOR = Prior((0.0, 1.1, 0.4), (0.04, 0.04, 0.04))
-
-
-def bowl() -> np.ndarray:
-    """Whole scores rising with the distance from OPTIMUM: one cell at the minimum."""
-    points = GRID.coordinates(np.arange(GRID.size))
-    return np.floor(3 + 8 * np.linalg.norm(points - OPTIMUM, axis=1) / 0.1)
 
 
 def told(cells: list[int], answers: list[float], fit: bool) -> BotorchPairwiseSearcher:
