@@ -4,6 +4,9 @@ along the stated up axis (a file in centimetres, or with another axis up, is cau
 
 from __future__ import annotations
 
+import warnings
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from .formats import UP_AXES, KeypointFormat, z_up
@@ -74,64 +77,100 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
     if missing not in MISSING:
         raise KeypointFileError(f"{what}: --missing {missing!r} is not allowed (use "
                                 f"{' or '.join(MISSING)})")
-    order, sign = z_up(up)  # the one rule of an up axis: FormatError for another
-    points, joints, frames = kp.points, kp.fmt.joints, kp.frames
-    if len(points) == 0:
-        raise KeypointFileError(f"{what} has no frames")
-    infinite = np.argwhere(np.isinf(points).any(axis=2))
-    if infinite.size:
-        i, j = infinite[0]
-        raise KeypointFileError(f"{what}: frame {frames[i]}, joint '{joints[j]}' has an infinite "
-                                f"coordinate (expected finite numbers; NaN or an empty cell for "
-                                f"a missing point)")
-    absent = np.isnan(points).any(axis=2)  # (N, J)
-    empty = np.flatnonzero(absent.all(axis=1))
-    if empty.size:
-        raise KeypointFileError(f"{what}: frame {frames[empty[0]]} has no points (every joint is "
-                                f"missing; {empty.size} such frame(s)): remove such frames")
-    gaps = absent.any(axis=1)
-    if missing == "error" and gaps.any():
-        i, j = np.argwhere(absent)[0]
-        raise KeypointFileError(
-            f"{what}: frame {frames[i]}, joint '{joints[j]}' is missing (NaN or an empty cell; "
-            f"{int(gaps.sum())} of {len(gaps)} frames miss points): --missing unseen scores such "
-            f"frames with the columns those points decide as unseen")
-    p = points[..., order] * np.array([1.0, 1.0, sign])  # z up
-    body = p[:, [kp.fmt.index(j) for j in kp.fmt.body]] if kp.fmt.body else p
-    extent = np.nanmax(body, axis=1) - np.nanmin(body, axis=1)  # (N, 3)
-    height = float(np.median(extent[:, 2]))
-    axis = up.lstrip("-")
-    if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:
-        # What one file unit would be for a body of typical height: the --units that fits.
-        per_unit = TYPICAL_HEIGHT_M / height / unit_scale(units, what)
-        hint = (f"is the up axis right (--up), and what is the file's unit? A "
-                f"{TYPICAL_HEIGHT_M:g} m body would make one unit {per_unit:.3g} m "
-                f"(--units {per_unit:.3g}; m, cm and mm are 1, 0.01 and 0.001)")
-        raise KeypointFileError(
-            f"{what}: the body is {_outside(height)} m tall read as --units {units} (the median "
-            f"extent of its points along the up axis {axis}): expected {MIN_HEIGHT_M:g}-"
-            f"{MAX_HEIGHT_M:g} m; {hint}")
-    across = float(np.median(extent[:, :2].max(axis=1)))
-    if across > MAX_LYING_RATIO * height:
-        raise KeypointFileError(
-            f"{what}: the body lies across the up axis '{up}' (a median {across:.2f} m across "
-            f"it and {height:.2f} m along it): give the axis that points up "
-            f"(--up {'|'.join(UP_AXES)})")
-    marks = kp.fmt.landmarks
-    needed = ("left_shoulder", "right_shoulder", "left_ankle", "right_ankle")
-    if all(m in marks for m in needed):
-        def level(mark: str) -> np.ndarray:
-            return p[:, [kp.fmt.index(j) for j in marks[mark]], 2].mean(axis=1)
+    z_up(up)  # the one rule of an up axis: FormatError for another
+    tally = CheckTally(kp.fmt, up)
+    tally.add(kp.frames, kp.points)
+    return tally.verdict(missing, what, units)
 
-        rise = ((level("left_shoulder") + level("right_shoulder"))
-                - (level("left_ankle") + level("right_ankle"))) / 2
-        seen = rise[np.isfinite(rise)]
-        if seen.size and float(np.median(seen)) < 0:
+
+@dataclass
+class CheckTally:
+    """The checks of :func:`check_keypoints`, gathered part by part (a whole file is one
+    part): :meth:`add` each part's frames and points [m]; :meth:`verdict` raises the first
+    fault in :func:`check_keypoints`' order and returns the frames with a missing point."""
+
+    fmt: KeypointFormat
+    up: str
+    infinite: str | None = None
+    empty: list[np.ndarray] = field(default_factory=list)
+    gaps: list[np.ndarray] = field(default_factory=list)
+    first_gap: str | None = None
+    height: list[np.ndarray] = field(default_factory=list)
+    across: list[np.ndarray] = field(default_factory=list)
+    rise: list[np.ndarray] = field(default_factory=list)
+
+    def add(self, frames: np.ndarray, points: np.ndarray) -> None:
+        joints = self.fmt.joints
+        infinite = np.argwhere(np.isinf(points).any(axis=2))
+        if infinite.size and self.infinite is None:
+            i, j = infinite[0]
+            self.infinite = f"frame {frames[i]}, joint '{joints[j]}'"
+        absent = np.isnan(points).any(axis=2)
+        self.empty.append(frames[absent.all(axis=1)])
+        gaps = absent.any(axis=1)
+        self.gaps.append(gaps)
+        if gaps.any() and self.first_gap is None:
+            i, j = np.argwhere(absent)[0]
+            self.first_gap = f"frame {frames[i]}, joint '{joints[j]}'"
+        order, sign = z_up(self.up)
+        p = points[..., order] * np.array([1.0, 1.0, sign])
+        body = p[:, [self.fmt.index(j) for j in self.fmt.body]] if self.fmt.body else p
+        with warnings.catch_warnings():  # a frame without points is refused in verdict()
+            warnings.simplefilter("ignore", RuntimeWarning)
+            extent = np.nanmax(body, axis=1) - np.nanmin(body, axis=1)
+        self.height.append(extent[:, 2])
+        self.across.append(extent[:, :2].max(axis=1))
+        marks = self.fmt.landmarks
+        if all(m in marks for m in ("left_shoulder", "right_shoulder", "left_ankle",
+                                    "right_ankle")):
+            def level(mark: str) -> np.ndarray:
+                return p[:, [self.fmt.index(j) for j in marks[mark]], 2].mean(axis=1)
+
+            self.rise.append(((level("left_shoulder") + level("right_shoulder"))
+                              - (level("left_ankle") + level("right_ankle"))) / 2)
+
+    def verdict(self, missing: str, what: str, units: str) -> np.ndarray:
+        gaps = np.concatenate(self.gaps) if self.gaps else np.zeros(0, bool)
+        if gaps.size == 0:
+            raise KeypointFileError(f"{what} has no frames")
+        if self.infinite:
+            raise KeypointFileError(f"{what}: {self.infinite} has an infinite coordinate "
+                                    "(expected finite numbers; NaN or an empty cell for a "
+                                    "missing point)")
+        empty = np.concatenate(self.empty)
+        if empty.size:
+            raise KeypointFileError(f"{what}: frame {empty[0]} has no points (every joint is "
+                                    f"missing; {empty.size} such frame(s)): remove such frames")
+        if missing == "error" and gaps.any():
             raise KeypointFileError(
-                f"{what}: the body is upside down along the up axis '{up}' (its shoulders are "
-                f"a median {-float(np.median(seen)):.2f} m below its ankles): is the up axis "
-                f"'{_flip(up)}'? (--up)")
-    return gaps
+                f"{what}: {self.first_gap} is missing (NaN or an empty cell; {int(gaps.sum())} "
+                f"of {len(gaps)} frames miss points): --missing unseen scores such frames with "
+                "the columns those points decide as unseen")
+        height = float(np.median(np.concatenate(self.height)))
+        if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:
+            per_unit = TYPICAL_HEIGHT_M / height / unit_scale(units, what)
+            raise KeypointFileError(
+                f"{what}: the body is {_outside(height)} m tall read as --units {units} (the "
+                f"median extent of its points along the up axis {self.up.lstrip('-')}): "
+                f"expected {MIN_HEIGHT_M:g}-{MAX_HEIGHT_M:g} m; is the up axis right (--up), "
+                f"and what is the file's unit? A {TYPICAL_HEIGHT_M:g} m body would make one "
+                f"unit {per_unit:.3g} m (--units {per_unit:.3g}; m, cm and mm are 1, 0.01 and "
+                "0.001)")
+        across = float(np.median(np.concatenate(self.across)))
+        if across > MAX_LYING_RATIO * height:
+            raise KeypointFileError(
+                f"{what}: the body lies across the up axis '{self.up}' (a median {across:.2f} m "
+                f"across it and {height:.2f} m along it): give the axis that points up "
+                f"(--up {'|'.join(UP_AXES)})")
+        if self.rise:
+            rise = np.concatenate(self.rise)
+            seen = rise[np.isfinite(rise)]
+            if seen.size and float(np.median(seen)) < 0:
+                raise KeypointFileError(
+                    f"{what}: the body is upside down along the up axis '{self.up}' (its "
+                    f"shoulders are a median {-float(np.median(seen)):.2f} m below its "
+                    f"ankles): is the up axis '{_flip(self.up)}'? (--up)")
+        return gaps
 
 
 def leg_lengths(points: np.ndarray, fmt: KeypointFormat) -> list[np.ndarray]:

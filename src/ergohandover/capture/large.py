@@ -3,11 +3,11 @@ whole file gives.
 
 What the whole file decides is gathered over its parts: the unit told from the median length of
 the legs (:func:`~.checks.infer_unit`), the checks of :func:`~.checks.check_keypoints` (medians
-over every frame), repeated frame numbers, and the assumed columns that are measured. A first
-reading parses the file once and keeps its points, in metres' binary form, in a temporary file;
-the checks and the scores read that file back part by part. With ``--unseen prior`` the parts'
-open rows are handed to :func:`~.unseen.score_distributions` in whole blocks, so each row gets
-the draws it gets when the file is scored whole.
+over every frame: :class:`~.checks.CheckTally`), repeated frame numbers, and the assumed columns
+that are measured. A first reading parses the file once and keeps its points, in metres' binary
+form, in a temporary file; the checks and the scores read that file back part by part. With
+``--unseen prior`` the parts' open rows are handed to :func:`~.unseen.score_distributions` in
+whole blocks, so each row gets the draws it gets when the file is scored whole.
 
 A file with several faults may be refused for another one of them than when read whole (a part
 is checked before the next is read); a file with one is refused with the same line.
@@ -17,25 +17,17 @@ from __future__ import annotations
 
 import os
 import tempfile
-import warnings
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..ergonomics import ScoringSettings
 from .captured import Captured, MeasuredColumnError, capture, capture_scores
-from .checks import (
-    MAX_HEIGHT_M,
-    MAX_LYING_RATIO,
-    MIN_HEIGHT_M,
-    TYPICAL_HEIGHT_M,
-    infer_unit,
-    leg_lengths,
-)
+from .checks import infer_unit, leg_lengths
 from .chunks import Part
-from .formats import UP_AXES, KeypointFormat, z_up
-from .readers import KeypointFileError, Keypoints, unit_scale
+from .formats import KeypointFormat
+from .readers import Keypoints
 from .unseen import SCORES, draw_block, score_distributions
 
 Progress = Callable[[int], None]
@@ -55,107 +47,6 @@ def unit_of_legs(legs: list[np.ndarray], fmt: KeypointFormat, what: str) -> tupl
             for mark, x in zip(marks, (0.0, leg, leg), strict=True):
                 points[0, [fmt.index(j) for j in mark]] = (x, 0.0, 0.0)
     return infer_unit(Keypoints(np.array([1]), points, fmt), what)
-
-
-def _outside(height: float) -> str:
-    """``height`` with the digits that keep it outside the allowed range as printed (as
-    :func:`~.checks.check_keypoints` prints it)."""
-    for digits in range(3, 10):
-        shown = f"{height:.{digits}g}"
-        if not MIN_HEIGHT_M <= float(shown) <= MAX_HEIGHT_M:
-            return shown
-    return repr(height)
-
-
-@dataclass
-class CheckTally:
-    """:func:`~.checks.check_keypoints` gathered part by part: :meth:`add` each part's frames
-    and points [m]; :meth:`verdict` raises what the whole file raises, in the same order and
-    words, and returns the frames with a missing point."""
-
-    fmt: KeypointFormat
-    up: str
-    infinite: str | None = None
-    empty: list[np.ndarray] = field(default_factory=list)
-    gaps: list[np.ndarray] = field(default_factory=list)
-    first_gap: str | None = None
-    height: list[np.ndarray] = field(default_factory=list)
-    across: list[np.ndarray] = field(default_factory=list)
-    rise: list[np.ndarray] = field(default_factory=list)
-
-    def add(self, frames: np.ndarray, points: np.ndarray) -> None:
-        joints = self.fmt.joints
-        infinite = np.argwhere(np.isinf(points).any(axis=2))
-        if infinite.size and self.infinite is None:
-            i, j = infinite[0]
-            self.infinite = f"frame {frames[i]}, joint '{joints[j]}'"
-        absent = np.isnan(points).any(axis=2)
-        self.empty.append(frames[absent.all(axis=1)])
-        gaps = absent.any(axis=1)
-        self.gaps.append(gaps)
-        if gaps.any() and self.first_gap is None:
-            i, j = np.argwhere(absent)[0]
-            self.first_gap = f"frame {frames[i]}, joint '{joints[j]}'"
-        order, sign = z_up(self.up)
-        p = points[..., order] * np.array([1.0, 1.0, sign])
-        body = p[:, [self.fmt.index(j) for j in self.fmt.body]] if self.fmt.body else p
-        with warnings.catch_warnings():  # a frame without points is refused in verdict()
-            warnings.simplefilter("ignore", RuntimeWarning)
-            extent = np.nanmax(body, axis=1) - np.nanmin(body, axis=1)
-        self.height.append(extent[:, 2])
-        self.across.append(extent[:, :2].max(axis=1))
-        marks = self.fmt.landmarks
-        if all(m in marks for m in ("left_shoulder", "right_shoulder", "left_ankle",
-                                    "right_ankle")):
-            def level(mark: str) -> np.ndarray:
-                return p[:, [self.fmt.index(j) for j in marks[mark]], 2].mean(axis=1)
-
-            self.rise.append(((level("left_shoulder") + level("right_shoulder"))
-                              - (level("left_ankle") + level("right_ankle"))) / 2)
-
-    def verdict(self, missing: str, what: str, units: str) -> np.ndarray:
-        gaps = np.concatenate(self.gaps) if self.gaps else np.zeros(0, bool)
-        if gaps.size == 0:
-            raise KeypointFileError(f"{what} has no frames")
-        if self.infinite:
-            raise KeypointFileError(f"{what}: {self.infinite} has an infinite coordinate "
-                                    "(expected finite numbers; NaN or an empty cell for a "
-                                    "missing point)")
-        empty = np.concatenate(self.empty)
-        if empty.size:
-            raise KeypointFileError(f"{what}: frame {empty[0]} has no points (every joint is "
-                                    f"missing; {empty.size} such frame(s)): remove such frames")
-        if missing == "error" and gaps.any():
-            raise KeypointFileError(
-                f"{what}: {self.first_gap} is missing (NaN or an empty cell; {int(gaps.sum())} "
-                f"of {len(gaps)} frames miss points): --missing unseen scores such frames with "
-                "the columns those points decide as unseen")
-        height = float(np.median(np.concatenate(self.height)))
-        if not MIN_HEIGHT_M <= height <= MAX_HEIGHT_M:
-            per_unit = TYPICAL_HEIGHT_M / height / unit_scale(units, what)
-            raise KeypointFileError(
-                f"{what}: the body is {_outside(height)} m tall read as --units {units} (the "
-                f"median extent of its points along the up axis {self.up.lstrip('-')}): "
-                f"expected {MIN_HEIGHT_M:g}-{MAX_HEIGHT_M:g} m; is the up axis right (--up), "
-                f"and what is the file's unit? A {TYPICAL_HEIGHT_M:g} m body would make one "
-                f"unit {per_unit:.3g} m (--units {per_unit:.3g}; m, cm and mm are 1, 0.01 and "
-                "0.001)")
-        across = float(np.median(np.concatenate(self.across)))
-        if across > MAX_LYING_RATIO * height:
-            raise KeypointFileError(
-                f"{what}: the body lies across the up axis '{self.up}' (a median {across:.2f} m "
-                f"across it and {height:.2f} m along it): give the axis that points up "
-                f"(--up {'|'.join(UP_AXES)})")
-        if self.rise:
-            rise = np.concatenate(self.rise)
-            seen = rise[np.isfinite(rise)]
-            if seen.size and float(np.median(seen)) < 0:
-                flip = self.up[1:] if self.up.startswith("-") else f"-{self.up}"
-                raise KeypointFileError(
-                    f"{what}: the body is upside down along the up axis '{self.up}' (its "
-                    f"shoulders are a median {-float(np.median(seen)):.2f} m below its "
-                    f"ankles): is the up axis '{flip}'? (--up)")
-        return gaps
 
 
 class PointCache:

@@ -246,9 +246,9 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     every frame is."""
     from ..capture.bones import check_format
     from ..capture.captured import MeasuredColumnError
+    from ..capture.checks import CheckTally
     from ..capture.chunks import npy_parts, wide_csv_parts
     from ..capture.large import (
-        CheckTally,
         read_parts,
         scored_parts,
         unit_of_legs,
