@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from test_cli_capture import EXAMPLES, KEYPOINTS
 from twin_postures import random_twin_postures
 
 from ergohandover.capture.bones import bone_lengths, misfit
@@ -21,16 +22,6 @@ from ergohandover.cli import main
 from ergohandover.ergonomics.posture import POSTURE_COLUMNS
 from ergohandover.twin.anthropometry import BodySpec
 
-ROOT = Path(__file__).resolve().parents[1]
-KEYPOINTS = ROOT / "examples" / "keypoints"
-EXAMPLES = {  # --format -> (file, further flags)
-    "h36m17": ("h36m17.csv", []),
-    "coco17": ("coco17_long.csv", []),
-    "mediapipe33": ("mediapipe33.json", []),
-    "zed34": ("zed34.npz", []),
-    "smpl24": ("smpl24.npy", []),
-    "bvh": ("twin.bvh", ["--units", "cm"]),
-}
 SCORES = [f"{s}{end}" for s in ("reba", "rula", "paper_postural") for end in ("", "_lo", "_hi")]
 
 

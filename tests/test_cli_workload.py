@@ -3,6 +3,7 @@ with each other and with the page they print — and their one-line refusals."""
 
 from __future__ import annotations
 
+import html
 import re
 import shutil
 
@@ -182,3 +183,18 @@ def test_the_report_renders_in_chromium_and_prints_to_pdf(reported, tmp_path):
     assert np.asarray(image).min() < 60
     pdf = print_pdf(reported / "report.html", tmp_path / "page.pdf")
     assert pdf.read_bytes().startswith(b"%PDF") and pdf.stat().st_size > 20_000
+
+
+def test_a_location_beyond_the_workforce_grid_says_why_it_has_no_share(reported, tmp_path):
+    done = run_cli("report", "--location", "0,0.3,0.65", "--output", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    page = (tmp_path / "out" / "report.html").read_text()
+    text = pd.read_csv(tmp_path / "out" / "report.csv", dtype=str, keep_default_na=False)
+    why = text["workforce_note"].iloc[0]
+    assert why.startswith("beyond the study's 3 cm grid of the workforce (its nearest point is ")
+    assert text["measured_share"].iloc[0] == ""
+    assert html.escape(f"no workforce share: {why}") in page
+    assert "data-why" in page and 'data-column="exact_share"' not in page
+    # A location the study measured the workforce at has its shares and no note.
+    shown = pd.read_csv(reported / "report.csv", dtype=str, keep_default_na=False)
+    assert shown["workforce_note"].iloc[0] == "" and shown["measured_share"].iloc[0] != ""

@@ -337,3 +337,12 @@ def test_an_instruments_bias_and_correlated_errors_weigh_the_bodies_as_its_densi
     alone = [multivariate_normal(twins.angles([cell], [k])[0, 0],
                                  np.diag(np.diag(joint))).logpdf(measured) for k in (1, 2)]
     assert abs((alone[1] - alone[0]) - (density[1] - density[0])) > 1e-3
+
+
+def test_a_bilateral_error_is_one_draw_for_both_sides_of_an_angle():
+    bias, covariance = angle_error(ErrorModel(4.0, "bilateral"))
+    right, left = (FIELD_ANGLES.index(f"{side}_elbow_flexion") for side in ("right", "left"))
+    assert covariance[right, left] == covariance[right, right] == 16.0 and not bias.any()
+    _, independent = angle_error(ErrorModel(4.0))
+    assert independent[right, left] == 0.0
+    assert np.array_equal(np.diag(covariance), np.diag(independent))

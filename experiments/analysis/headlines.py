@@ -271,7 +271,7 @@ def personalise_rows(results: Path) -> list[Headline]:
     runs = int(best["n_runs"]) // int(best["n_workers"])
     said = worst.removeprefix("posture SD ").replace(" deg", "°")
     reversal = [f"at {said} out of model ({int(out['n_workers'])} workers whose twin differs) "
-                f"the gain's interval reaches {out['gain_ci_low']:+.2f} and "
+                f"the gain's interval reaches {personalise_tables.bound(out['gain_ci_low'])} and "
                 f"{pct(out['harm'])} of runs are worse than no search"]
     reversal += personalise_tables.other_reversals(measured, best)
     reversal.append(f"its model states {pct(best['model_p_optimal'])} for the "

@@ -241,8 +241,14 @@ def other_reversals(measured: pd.DataFrame, best: pd.Series) -> list[str]:
         there = at(measured, model, said, best["searcher"], best["rule"], HEADLINE_BUDGET)
         if there["gain_ci_low"] <= 0:
             found.append(f"{model} workers, {said}: the gain's interval reaches "
-                         f"{there['gain_ci_low']:+.2f}")
+                         f"{bound(there['gain_ci_low'])}")
     return found
+
+
+def bound(value: float) -> str:
+    """An interval's end in points: two decimals, three where two would round a value that is
+    not zero to 0.00 (a bound just below zero is below zero)."""
+    return f"{value:+.3f}" if 0 < abs(value) < 0.005 else f"{value:+.2f}"
 
 
 def measured_table(measured: pd.DataFrame) -> list[str]:

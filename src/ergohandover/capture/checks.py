@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .formats import UP_AXES, z_up
+from .formats import UP_AXES, KeypointFormat, z_up
 from .readers import KeypointFileError, Keypoints, unit_scale
 
 MISSING = ("error", "unseen")
@@ -134,14 +134,13 @@ def check_keypoints(kp: Keypoints, up: str, missing: str, what: str,
     return gaps
 
 
-def leg_length(kp: Keypoints) -> float:
-    """The median over frames and sides of hip-to-knee plus knee-to-ankle, in the file's unit
-    (NaN where the format gives no hip, knee or ankle): bones keep their length whatever the
-    posture and whichever axis is up."""
-    marks = kp.fmt.landmarks
+def leg_lengths(points: np.ndarray, fmt: KeypointFormat) -> list[np.ndarray]:
+    """Per side the format gives a hip, knee and ankle of, each frame's hip-to-knee plus
+    knee-to-ankle (N,) in the file's unit."""
+    marks = fmt.landmarks
 
     def at(mark: str) -> np.ndarray:
-        return kp.points[:, [kp.fmt.index(j) for j in marks[mark]]].mean(axis=1)  # (N, 3)
+        return points[:, [fmt.index(j) for j in marks[mark]]].mean(axis=1)  # (N, 3)
 
     legs = []
     for side in ("left", "right"):
@@ -149,6 +148,14 @@ def leg_length(kp: Keypoints) -> float:
         if all(m in marks for m in (hip, knee, ankle)):
             legs.append(np.linalg.norm(at(hip) - at(knee), axis=1)
                         + np.linalg.norm(at(knee) - at(ankle), axis=1))
+    return legs
+
+
+def leg_length(kp: Keypoints) -> float:
+    """The median over frames and sides of hip-to-knee plus knee-to-ankle, in the file's unit
+    (NaN where the format gives no hip, knee or ankle): bones keep their length whatever the
+    posture and whichever axis is up."""
+    legs = leg_lengths(kp.points, kp.fmt)
     found = np.concatenate(legs) if legs else np.array([np.nan])
     return float(np.nanmedian(found)) if np.isfinite(found).any() else float("nan")
 

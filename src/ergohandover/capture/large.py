@@ -26,30 +26,20 @@ import numpy as np
 from ..ergonomics import ScoringSettings
 from .angles import NEUTRAL_CLAVICLE_DEG
 from .captured import Captured, MeasuredColumnError, capture, capture_scores
-from .checks import MAX_HEIGHT_M, MAX_LYING_RATIO, MIN_HEIGHT_M, TYPICAL_HEIGHT_M, infer_unit
+from .checks import (
+    MAX_HEIGHT_M,
+    MAX_LYING_RATIO,
+    MIN_HEIGHT_M,
+    TYPICAL_HEIGHT_M,
+    infer_unit,
+    leg_lengths,
+)
 from .chunks import Part
 from .formats import UP_AXES, KeypointFormat, z_up
 from .readers import KeypointFileError, Keypoints, unit_scale
 from .unseen import SCORES, draw_block, score_distributions
 
 Progress = Callable[[int], None]
-
-
-def _legs(points: np.ndarray, fmt: KeypointFormat) -> list[np.ndarray]:
-    """Per side, each frame's hip-to-knee plus knee-to-ankle (as :func:`~.checks.leg_length`
-    measures them before taking their median)."""
-    marks = fmt.landmarks
-
-    def at(mark: str) -> np.ndarray:
-        return points[:, [fmt.index(j) for j in marks[mark]]].mean(axis=1)
-
-    legs = []
-    for side in ("left", "right"):
-        hip, knee, ankle = (f"{side}_{part}" for part in ("hip", "knee", "ankle"))
-        if all(m in marks for m in (hip, knee, ankle)):
-            legs.append(np.linalg.norm(at(hip) - at(knee), axis=1)
-                        + np.linalg.norm(at(knee) - at(ankle), axis=1))
-    return legs
 
 
 def unit_of_legs(legs: list[np.ndarray], fmt: KeypointFormat, what: str) -> tuple[str, float]:
@@ -221,7 +211,7 @@ def read_parts(parts: Iterator[Part], fmt: KeypointFormat, keep: tuple[int, int]
             if neutral is None and neutral_frame is not None:
                 rows = np.flatnonzero(part.frames == neutral_frame)
                 neutral = part.points[rows[0]].copy() if rows.size else None
-            legs.append(_legs(part.points, fmt))
+            legs.append(leg_lengths(part.points, fmt))
             mask = slice(None) if keep is None else \
                 (part.frames >= keep[0]) & (part.frames <= keep[1])
             kept.append(part.frames[mask])
@@ -234,16 +224,6 @@ def read_parts(parts: Iterator[Part], fmt: KeypointFormat, keep: tuple[int, int]
         raise
     sides = [np.concatenate([p[s] for p in legs]) for s in range(len(legs[0]))] if legs else []
     return ReadFile(np.concatenate(frames), np.concatenate(kept), cache, sides, neutral)
-
-
-def repeated_frame(frames: np.ndarray, what: str) -> None:
-    """A frame number in two rows (the whole-file reader's words)."""
-    order = np.argsort(frames, kind="stable")
-    same = np.flatnonzero(np.diff(frames[order]) == 0)
-    if same.size:
-        first, second = sorted((int(order[same[0]]), int(order[same[0] + 1])))
-        raise KeypointFileError(f"{what}: frame {frames[first]} is in rows {first + 1} and "
-                                f"{second + 1} (expected one row per frame)")
 
 
 def measured_assumptions(parts: Callable[[], Iterator[np.ndarray]], fmt: KeypointFormat,

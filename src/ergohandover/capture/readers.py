@@ -196,14 +196,15 @@ def _read_wide(table: pd.DataFrame, fmt: KeypointFormat,
             f"<joint>_z for each of its joints, a long one the columns frame, joint, x, y, z)")
     if "frame" in table.columns:
         frames = frame_numbers(table, what)
-        _no_repeats(frames, what)
+        repeated_frame(frames, what)
     else:
         frames = np.arange(1, len(table) + 1)
     points = cell_values(table, columns, what).reshape(len(table), len(fmt.joints), 3)
     return frames, whole_points(points)
 
 
-def _no_repeats(frames: np.ndarray, what: str) -> None:
+def repeated_frame(frames: np.ndarray, what: str) -> None:
+    """Refuse a frame number in two rows (a file read whole, or every part's frames)."""
     order = np.argsort(frames, kind="stable")
     same = np.flatnonzero(np.diff(frames[order]) == 0)
     if same.size:

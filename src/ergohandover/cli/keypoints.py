@@ -300,11 +300,10 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     from ..capture.large import (
         CheckTally,
         read_parts,
-        repeated_frame,
         scored_parts,
         unit_of_legs,
     )
-    from ..capture.readers import Keypoints, unit_scale
+    from ..capture.readers import Keypoints, repeated_frame, unit_scale
 
     typed = str(args.keypoints)
     units = args.units or "m"

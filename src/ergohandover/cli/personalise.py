@@ -27,7 +27,7 @@ from .options import (
 )
 from .parser import given
 from .personalise_outputs import report, write_outputs
-from .values import BadValue, boundary, choice, number, output_file, rule, whole
+from .values import angle_error, boundary, choice, number, output_file, rule, whole
 
 DEFAULT_SEARCHER = "fitted-twin"
 """The searcher whose recommendation was most often a worker's true optimum in the
@@ -85,24 +85,6 @@ runs/personalise/<timestamp>/). See docs/personalise.md."""
 ANGLE_ERROR = "5"
 """The answers' angle error a fitted twin assumes by default: 5° SD on every angle, the
 personalisation study's headline answers."""
-
-
-def angle_error(text: str) -> str:
-    """``--angle-error``: a finite SD in degrees >= 0, or ``imu``."""
-    if text.strip().lower() == "imu":
-        return "imu"
-    try:
-        return f"{number(0, None, 'deg')(text):g}"
-    except BadValue:
-        raise BadValue(text, "not allowed (expected an SD in degrees >= 0, or imu)") from None
-
-
-def error_model(text: str):
-    """The error model ``--angle-error`` names."""
-    from ..robustness.measured_error import MEASURED_ERROR
-    from ..robustness.posture_error import ErrorModel
-
-    return MEASURED_ERROR if text == "imu" else ErrorModel(float(text))
 
 
 def add_parser(subparsers) -> None:
@@ -343,10 +325,10 @@ def resolve(args: argparse.Namespace):
     try:
         twins = None
         if entry(args.searcher).twins and prior is not None:
-            from ..search.fitted_twin import survey_library
+            from ..search.fitted_twin import named_error, survey_library
 
             twins = survey_library(evaluator, grid, args.objective, args.seed,
-                                   error=error_model(args.angle_error))
+                                   error=named_error(args.angle_error))
         searcher = make(args.searcher, grid, args.seed, prior, twins=twins)
     except ConfigError as exc:
         raise InputError(f"--searcher {args.searcher}: {exc}") from None

@@ -91,27 +91,33 @@ def named_locations(args: argparse.Namespace) -> pd.DataFrame:
 
 def workforce_share(results: Path, named: pd.DataFrame) -> tuple[pd.DataFrame, list[str]]:
     """The accommodation part's shares at each location: its own row for a headline location,
-    else the nearest point of its grid (none beyond the grid); and what the figures are."""
+    else the nearest point of its grid (none beyond the grid, and ``workforce_note`` says
+    why); and what the figures are."""
     columns = ["exact_share", "exact_low", "exact_high", "measured_share", "measured_low",
                "measured_high"]
     folder = results / "accommodation"
     empty = pd.DataFrame(np.nan, index=named.index, columns=columns)
     if not (folder / "cells.csv").is_file():
-        return empty, [f"No workforce share: {folder} holds no results."]
+        why = f"{folder} holds no results of the study's workforce"
+        return empty.assign(workforce_note=why), [f"No workforce share: {why}."]
     cells, at = pd.read_csv(folder / "cells.csv"), pd.read_csv(folder / "locations.csv")
     workers = int(at["workers"].iloc[0])
     xyz = cells[["x", "y", "z"]].to_numpy(float)
     step = float(np.min(np.diff(np.unique(xyz[:, 0]))))
-    out = empty.copy()
+    out = empty.assign(workforce_note="")
     for i, row in named.iterrows():
         point = row[["x", "y", "z"]].to_numpy(float)
         same = np.all(np.isclose(at[["x", "y", "z"]].to_numpy(float), point, atol=1e-6), axis=1)
         if same.any():
-            out.loc[i] = at.loc[np.flatnonzero(same)[0], columns].to_numpy(float)
+            out.loc[i, columns] = at.loc[np.flatnonzero(same)[0], columns].to_numpy(float)
             continue
         distance = np.linalg.norm(xyz - point, axis=1)
         if distance.min() <= step * np.sqrt(3) / 2:
-            out.loc[i] = cells.loc[int(np.argmin(distance)), columns].to_numpy(float)
+            out.loc[i, columns] = cells.loc[int(np.argmin(distance)), columns].to_numpy(float)
+        else:
+            out.loc[i, "workforce_note"] = (
+                f"beyond the study's {step * 100:g} cm grid of the workforce (its nearest point "
+                f"is {100 * distance.min():.0f} cm away), where no share was computed")
     zone = pd.read_csv(folder / "zone.csv")
     limits = zone.iloc[0]
     return out, [f"Workforce: {workers} workers drawn from the ANSUR II body model; suited = "
@@ -167,14 +173,14 @@ def run(args: argparse.Namespace) -> int:
             pages.append(report_page(
                 row, f"Handover at {row['location']}",
                 f"box at x={x:+.3f}, y={y:.3f}, z={z:.3f} m (worker frame){state}; {who}",
-                picture, notes, flags(row)))
+                picture, notes, flags(row), why=row["workforce_note"]))
         document = "<div style='break-after: page'></div>".join(pages)
         (tmp / "report.html").write_text(document)
         # The numbers as the pages show them, then the rest of the Evaluation as it is.
         text = pd.DataFrame({c: [shown(c, v) for v in rows[c]] for c in PAGE_COLUMNS})
         rest = [c for c in (*EVALUATION_COLUMNS, *work.columns) if c not in PAGE_COLUMNS]
         atomic_write_csv(pd.concat([rows[["location"]], flag_column(rows).rename("flags"), text,
-                                    rows[rest]], axis=1),
+                                    rows[["workforce_note", *rest]]], axis=1),
                          tmp / "report.csv")
         if args.pdf:
             print_pdf(tmp / "report.html", tmp / "report.pdf")

@@ -78,6 +78,16 @@ def number(lo: float | None = None, hi: float | None = None, unit: str = "",
     return check
 
 
+def angle_error(text: str) -> str:
+    """An instrument's angle error: a finite SD in degrees >= 0, or ``imu``."""
+    if text.strip().lower() == "imu":
+        return "imu"
+    try:
+        return f"{number(0, None, 'deg')(text):g}"
+    except BadValue:
+        raise BadValue(text, "not allowed (expected an SD in degrees >= 0, or imu)") from None
+
+
 REACH_M = 3.0
 """Beyond this on any axis of the worker frame [m] no box is handed to a standing worker: wider
 than anyone stands or reaches, so that only a unit mistake (centimetres given as metres) trips

@@ -42,8 +42,8 @@ from ..errors import ConfigError
 from ..landscape import Landscape
 from ..landscape.grid import Grid
 from ..landscape.sweep import ANGLES as LANDSCAPE_ANGLES
-from ..robustness.measured_error import MeasuredError
-from ..robustness.posture_error import ANGLE_COLUMNS, ErrorModel
+from ..robustness.measured_error import MEASURED_ERROR, MeasuredError
+from ..robustness.posture_error import ANGLE_COLUMNS, PAIRED, ErrorModel
 from ..twin.evaluate import Evaluator
 from .cells import NewCellSearcher, prior_point
 from .prior import Prior
@@ -97,7 +97,19 @@ def angle_error(error: ErrorModel | MeasuredError) -> tuple[np.ndarray, np.ndarr
     if isinstance(error, MeasuredError):
         sd = error.sd()[index]
         return error.bias()[index], error.correlation()[np.ix_(index, index)] * np.outer(sd, sd)
-    return np.zeros(len(index)), np.eye(len(index)) * error.sd_deg ** 2
+    same = np.eye(len(index))
+    if error.structure == "bilateral":  # one draw for both sides of a paired angle
+        for right, left in PAIRED.items():
+            if right in FIELD_ANGLES and left in FIELD_ANGLES:
+                i, j = FIELD_ANGLES.index(right), FIELD_ANGLES.index(left)
+                same[i, j] = same[j, i] = 1.0
+    return np.zeros(len(index)), same * error.sd_deg ** 2
+
+
+def named_error(name: str) -> ErrorModel | MeasuredError:
+    """An instrument by name: ``imu`` (the published IMU suit's error,
+    :data:`~..robustness.measured_error.MEASURED_ERROR`) or an SD in degrees on every angle."""
+    return MEASURED_ERROR if name == "imu" else ErrorModel(float(name))
 
 
 class TwinLibrary:

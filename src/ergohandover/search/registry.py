@@ -121,6 +121,9 @@ SEARCHERS: dict[str, Entry] = {e.name: e for e in (
     *with_prior_variant(Entry("pairwise", "pairwise preferences (GP)", "searcher",
                               ".pairwise:PairwiseSearcher", answers="preferences",
                               model=True)),
+    *with_prior_variant(Entry("pairwise-botorch", "pairwise preferences (BoTorch)", "searcher",
+                              ".pairwise_botorch:BotorchPairwiseSearcher",
+                              answers="preferences", model=True)),
     Entry("fitted-twin", "fitted twin", "searcher", ".fitted_twin:FittedTwinSearcher",
           prior="needs", twins=True, model=True),
 )}
@@ -131,8 +134,9 @@ started at the worker's prior: ``+prior``), random draws (uniform, with replacem
 a step), hill-climbing with random restarts, and the ask/tell searchers: random order (uniform
 without replacement), the population prior alone, Bayesian optimisation (Optuna's GP sampler),
 TPE, CMA-ES, particle-swarm optimisation and a preference GP told only which of the last two
-handovers was better, each also warm-started (``+prior``), and the twin fitted to the worker's
-first handovers (it needs candidate twins)."""
+handovers was better (hand-written, and BoTorch's ``PairwiseGP`` with EUBO: the ``preferences``
+extra), each also warm-started (``+prior``), and the twin fitted to the worker's first handovers
+(it needs candidate twins)."""
 LEARNERS = tuple(name for name, e in SEARCHERS.items() if e.learns)
 
 

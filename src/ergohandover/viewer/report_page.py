@@ -114,10 +114,13 @@ def _rows(row: Mapping, columns, labels: Mapping | None = None) -> str:
 
 
 def report_page(row: Mapping, title: str, subtitle: str, picture: bytes | None,
-                notes: list[str], warnings: list[str] = ()) -> str:
+                notes: list[str], warnings: list[str] = (), why: str = "") -> str:
     """The page of one handover: ``row`` holds the Evaluation, workload and accommodation
     columns (shown as :func:`shown` writes them), ``picture`` the twin's PNG, ``warnings`` the
-    row's flags (action limits exceeded, knife edges of cut-offs), shown above the scores."""
+    row's flags (action limits exceeded, knife edges of cut-offs), shown above the scores;
+    ``why``: why the workforce's shares are empty, said where they would be."""
+    if why:
+        warnings = [*warnings, f"no workforce share: {why}"]
     image = ("" if picture is None else '<img alt="the twin holding the box" src="data:image/'
              f'png;base64,{base64.b64encode(picture).decode()}">')
     headline = _rows(row, HEADLINE,
@@ -137,7 +140,9 @@ def report_page(row: Mapping, title: str, subtitle: str, picture: bytes | None,
         f"<div><h2>Revised NIOSH lifting equation</h2>{_rows(row, LIFT_ITEMS)}"
         f"<h2>Over a shift of handovers</h2>{_rows(row, SHIFT_ITEMS)}</div>",
         f"<div><h2>Back load and strength</h2>{_rows(row, BACK_ITEMS)}"
-        f"<h2>The study's workforce at this location</h2>{_rows(row, ACCOMMODATION_ITEMS)}"
+        f"<h2>The study's workforce at this location</h2>"
+        + (f"<div class='why' data-why>{html.escape(why)}</div>" if why else
+           _rows(row, ACCOMMODATION_ITEMS)) +
         "</div></div>",
         "".join(f"<div class='note'>{html.escape(n)}</div>" for n in notes),
     ]
