@@ -74,7 +74,8 @@ def reba(p: dict, s) -> dict:
             ua = 4
         ua += int(exceeds(a["upper_arm_abduction"], s.abduction_from_deg)
                   or exceeds(a["upper_arm_rotation"], s.rotation_from_deg))
-        ua += int(exceeds(a["shoulder_raise"], s.shoulder_raise_from_deg))
+        # Raised means elevated: a depressed shoulder (negative) never counts.
+        ua += int(not within(a["shoulder_raise"], s.shoulder_raise_from_deg))
         ua = max(ua - int(a["arm_supported"] == 1), 1)
         e = a["elbow_flexion"]
         la = 1 if within(60 - e, 0) and within(e - 100, 0) else 2
@@ -144,7 +145,7 @@ def rula(p: dict, s) -> dict:
             ua = 2
         else:
             ua = 3 if within(u, 90) else 4
-        ua += exceeds(a["shoulder_raise"], s.shoulder_raise_from_deg)
+        ua += int(not within(a["shoulder_raise"], s.shoulder_raise_from_deg))  # elevation only
         ua += exceeds(a["upper_arm_abduction"], s.abduction_from_deg)
         ua = max(ua - int(a["arm_supported"] == 1), 1)
         e = a["elbow_flexion"]

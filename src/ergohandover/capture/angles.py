@@ -18,7 +18,8 @@ toward the thumb.
   clavicle is seen and the elbow is bent at least :data:`MIN_ELBOW_FOR_ROTATION_DEG` (a
   straight forearm does not show it);
 - shoulder raise: the clavicle's (neck base or clavicle to shoulder) elevation above its neutral
-  slope (the body model's; ``neutral_clavicle_deg``);
+  slope (``neutral_clavicle_deg``: the body model's, a BVH rig's rest pose or a standing frame
+  of the capture, per side), + up and − down;
 - a column the format declares unseen (``KeypointFormat.unseen``: its source fills those points
   in from a rigid template) is unseen whatever its points say;
 - wrist flexion, deviation and twist: the hand frame in the forearm's; the twist (pronation)
@@ -35,6 +36,7 @@ whose points it needs are missing (NaN), is NaN: unseen.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -54,7 +56,8 @@ def clavicle_slope_deg(body: BodySpec) -> float:
 
 
 NEUTRAL_CLAVICLE_DEG = clavicle_slope_deg(BodySpec())
-"""The clavicle's slope at rest that shoulder raise is measured from by default [deg]."""
+"""The clavicle's slope at rest that shoulder raise is measured from when nothing says the
+person's own [deg]."""
 ANGLE_DECIMALS = 6
 """Measured angles are rounded to this many decimals [deg]."""
 GRIP_REACH_M = 0.10
@@ -160,15 +163,16 @@ def landmarks(keypoints: np.ndarray, fmt: KeypointFormat, up: str | None = None
 
 
 def measure(keypoints: np.ndarray, fmt: KeypointFormat, up: str | None = None,
-            neutral_clavicle_deg: float = NEUTRAL_CLAVICLE_DEG) -> dict[str, np.ndarray]:
+            neutral_clavicle_deg: float | Mapping[str, float] = NEUTRAL_CLAVICLE_DEG
+            ) -> dict[str, np.ndarray]:
     """The Posture columns a format's keypoints measure.
 
     Args:
         keypoints: (N, J, 3) positions in the format's joint order [m].
         fmt: the format.
         up: the up axis of ``keypoints`` (default: the format's).
-        neutral_clavicle_deg: the clavicle's slope at rest [deg] (see
-            :data:`NEUTRAL_CLAVICLE_DEG`).
+        neutral_clavicle_deg: the clavicle's slope at rest [deg], one for both sides or
+            side -> slope (see :data:`NEUTRAL_CLAVICLE_DEG` and :func:`clavicle_slopes`).
 
     Returns:
         Column name -> (N,) values: every angle column of the Posture CSV and the flags
@@ -207,12 +211,21 @@ def measure(keypoints: np.ndarray, fmt: KeypointFormat, up: str | None = None,
     cols["hands_above_neck"] = _flag(above > 0, above, 0.0, reach)
     for side, outward in (("left", 1.0), ("right", -1.0)):
         cols.update(_arm(m, side, outward, thorax, top, base, grips[side], reach,
-                         neutral_clavicle_deg, f"{side}_shoulder_raise" in fmt.unseen))
+                         neutral_clavicle_deg[side] if isinstance(neutral_clavicle_deg, Mapping)
+                         else neutral_clavicle_deg, f"{side}_shoulder_raise" in fmt.unseen))
     for name in fmt.unseen:  # what the format's source fills in rather than measures
         cols[name] = np.full(n, np.nan)
     # To a millionth of a degree, far below any instrument's resolution: a posture exactly on
     # a band edge (a joint at its limit) stays on it through the keypoints' rounding errors.
     return {name: np.round(values, ANGLE_DECIMALS) for name, values in cols.items()}
+
+
+def clavicle_slopes(keypoints: np.ndarray, fmt: KeypointFormat, up: str | None = None
+                    ) -> dict[str, np.ndarray]:
+    """Each side's clavicle slope in the thorax's y-z plane [deg], the angle shoulder raise is
+    measured from: (N,) per side, NaN where the format does not see it."""
+    cols = measure(keypoints, fmt, up, neutral_clavicle_deg=0.0)
+    return {side: cols[f"{side}_shoulder_raise"] for side in SIDES}
 
 
 def _flag(value: np.ndarray, *distances_thresholds_reach) -> np.ndarray:

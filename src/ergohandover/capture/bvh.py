@@ -19,7 +19,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -34,9 +34,6 @@ REQUIRED = tuple(f"{side}_{part}" for part in ("hip", "knee", "ankle", "shoulder
 CHANNELS = ("Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation")
 
 
-# -- rotations ---------------------------------------------------------------------------------
-
-
 def axis_rotation(axis: int, degrees: np.ndarray) -> np.ndarray:
     """(..., 3, 3) rotations by ``degrees`` about coordinate axis ``axis`` (0 = x)."""
     a = np.radians(np.asarray(degrees, dtype=np.float64))
@@ -47,9 +44,6 @@ def axis_rotation(axis: int, degrees: np.ndarray) -> np.ndarray:
     out[..., j, j], out[..., j, k] = c, -s
     out[..., k, j], out[..., k, k] = s, c
     return out
-
-
-# -- reading -----------------------------------------------------------------------------------
 
 
 @dataclass
@@ -367,12 +361,14 @@ class BvhMotion:
         parents: each one's parent's index (-1 for a root).
         frame_time: seconds between frames.
         points: (N, len(names), 3) positions [m] in the file's frame.
+        rest: (len(names), 3) positions [m] in the rest pose (the OFFSETs, no rotation).
     """
 
     names: tuple[str, ...]
     parents: tuple[int, ...]
     frame_time: float
     points: np.ndarray
+    rest: np.ndarray
 
 
 RADIANS_AT_MOST = np.pi + 0.05
@@ -423,7 +419,8 @@ def parse_bvh(path: str | os.PathLike, units: str = "m", radians: bool = False) 
     motion, frame_time = _parse_motion(lines, motion_line, channels, what)
     motion = _rotations_in_degrees(nodes, motion, radians, what)
     return BvhMotion(tuple(node.name for node in nodes), tuple(node.parent for node in nodes),
-                     frame_time, _forward(nodes, motion) / scale)
+                     frame_time, _forward(nodes, motion) / scale,
+                     _forward(nodes, np.zeros((1, channels)))[0] / scale)
 
 
 def read_bvh(path: str | os.PathLike, units: str = "m",
@@ -431,14 +428,12 @@ def read_bvh(path: str | os.PathLike, units: str = "m",
     """Read a BVH file as keypoints: every joint's and End Site's position in every frame.
 
     Args:
-        path: the file, as the user typed it (messages name it so).
-        units: the file's length unit, ``m``, ``cm`` or ``mm``.
+        path, units, radians: as :func:`parse_bvh`.
         joint_map: landmark -> joint, for a rig :mod:`.rigs` does not know (or to override it).
-        radians: its rotations are radians (:func:`parse_bvh`).
 
     Returns:
         Frames 1..N, points [m] in the file's frame (y up by BVH's convention), and the format
-        of the file's joints (:func:`bvh_format`).
+        of the file's joints (:func:`bvh_format`) with the rest pose, the shoulders' neutral.
 
     Raises:
         KeypointFileError: one line naming the file (and the line, where it helps); a file
@@ -447,4 +442,5 @@ def read_bvh(path: str | os.PathLike, units: str = "m",
     """
     motion = parse_bvh(path, units, radians)
     fmt = bvh_format(motion.names, str(path), motion.points, motion.parents, joint_map)
+    fmt = replace(fmt, rest=tuple(map(tuple, motion.rest.tolist())))
     return Keypoints(np.arange(1, len(motion.points) + 1), motion.points, fmt)

@@ -12,7 +12,7 @@ import numpy as np
 from ..ergonomics import Posture, ScoringSettings, score_postures
 from ..ergonomics.posture import POSTURE_COLUMNS, REQUIRED_COLUMNS
 from ..errors import ErgohandoverError
-from .angles import measure
+from .angles import NEUTRAL_CLAVICLE_DEG, measure
 from .formats import KeypointFormat
 from .unseen import SCORES, score_distributions, score_intervals
 
@@ -55,7 +55,8 @@ class Captured(NamedTuple):
 
 
 def capture(points: np.ndarray, fmt: KeypointFormat, up: str | None = None,
-            assume: Mapping[str, float] | None = None) -> Captured:
+            assume: Mapping[str, float] | None = None,
+            neutral: float | Mapping[str, float] = NEUTRAL_CLAVICLE_DEG) -> Captured:
     """The Posture columns of N frames of keypoints.
 
     Args:
@@ -66,11 +67,13 @@ def capture(points: np.ndarray, fmt: KeypointFormat, up: str | None = None,
             ``load_kg``, or an angle the capture cannot see). Task factors not assumed take the
             Posture defaults (``ergohandover score --help``). A column the keypoints measure
             in any frame is a :class:`MeasuredColumnError`.
+        neutral: the clavicle's slope at rest that shoulder raise is measured from [deg], for
+            both sides or per side (:func:`~.angles.measure`).
 
     Returns:
         The columns and the unseen mask.
     """
-    measured = measure(points, fmt, up)
+    measured = measure(points, fmt, up, neutral)
     n = len(points)
     for name in assume or {}:
         seen = int(np.isfinite(measured[name]).sum()) if name in measured else 0

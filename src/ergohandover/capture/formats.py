@@ -57,6 +57,8 @@ class KeypointFormat:
             its source fills in from a rigid template rather than measures.
         body: the joints whose extent is the body's for the size checks (empty: every joint;
             a BVH file's props, fingers and toes are not).
+        rest: every joint's position in the rig's rest pose (a BVH file's OFFSETs with no
+            rotation), the body's own neutral; empty for formats without one.
     """
 
     name: str
@@ -66,6 +68,7 @@ class KeypointFormat:
     landmarks: dict[str, tuple[str, ...]] = field(hash=False)
     unseen: tuple[str, ...] = ()
     body: tuple[str, ...] = ()
+    rest: tuple[tuple[float, float, float], ...] = field(default=(), hash=False, compare=False)
 
     def __post_init__(self):
         for landmark, names in self.landmarks.items():

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..ergonomics import ScoringSettings
+from .angles import NEUTRAL_CLAVICLE_DEG
 from .captured import Captured, MeasuredColumnError, capture, capture_scores
 from .checks import infer_unit, leg_lengths
 from .chunks import Part
@@ -77,22 +78,30 @@ class PointCache:
 @dataclass
 class ReadFile:
     """The first reading of a file: every frame number (for repeats and ``--frames``'
-    message), the kept frames, their points cached, and every frame's legs [file units]."""
+    message), the kept frames, their points cached, every frame's legs [file units], and the
+    points of the frame asked for as the shoulders' neutral (None: not asked, or not in the
+    file), kept whether or not it is scored."""
 
     frames: np.ndarray
     kept: np.ndarray
     cache: PointCache
     legs: list[np.ndarray]
+    neutral: np.ndarray | None = None
 
 
 def read_parts(parts: Iterator[Part], fmt: KeypointFormat, keep: tuple[int, int] | None,
-               progress: Progress | None = None) -> ReadFile:
-    """Read every part, keeping the frames numbered within ``keep`` (inclusive)."""
+               progress: Progress | None = None, neutral_frame: int | None = None) -> ReadFile:
+    """Read every part, keeping the frames numbered within ``keep`` (inclusive) and the points
+    of frame ``neutral_frame`` (its first row, as the whole reader finds it)."""
     cache = PointCache(len(fmt.joints))
     frames, kept, legs = [], [], []
+    neutral = None
     try:
         for part in parts:
             frames.append(part.frames)
+            if neutral is None and neutral_frame is not None:
+                rows = np.flatnonzero(part.frames == neutral_frame)
+                neutral = part.points[rows[0]].copy() if rows.size else None
             legs.append(leg_lengths(part.points, fmt))
             mask = slice(None) if keep is None else \
                 (part.frames >= keep[0]) & (part.frames <= keep[1])
@@ -105,11 +114,12 @@ def read_parts(parts: Iterator[Part], fmt: KeypointFormat, keep: tuple[int, int]
         cache.close()
         raise
     sides = [np.concatenate([p[s] for p in legs]) for s in range(len(legs[0]))] if legs else []
-    return ReadFile(np.concatenate(frames), np.concatenate(kept), cache, sides)
+    return ReadFile(np.concatenate(frames), np.concatenate(kept), cache, sides, neutral)
 
 
 def measured_assumptions(parts: Callable[[], Iterator[np.ndarray]], fmt: KeypointFormat,
-                         up: str, assume: Mapping[str, float]) -> None:
+                         up: str, assume: Mapping[str, float],
+                         neutral: float | Mapping[str, float] = NEUTRAL_CLAVICLE_DEG) -> None:
     """The :class:`MeasuredColumnError` :func:`capture` raises for the whole file: the first
     assumed column measured in any part, with its count over every frame."""
     from .angles import measure
@@ -117,7 +127,7 @@ def measured_assumptions(parts: Callable[[], Iterator[np.ndarray]], fmt: Keypoin
     seen = dict.fromkeys(assume, 0)
     total = 0
     for points in parts():
-        measured = measure(points, fmt, up)
+        measured = measure(points, fmt, up, neutral)
         total += len(points)
         for name in seen:
             seen[name] += int(np.isfinite(measured[name]).sum()) if name in measured else 0
@@ -128,10 +138,12 @@ def measured_assumptions(parts: Callable[[], Iterator[np.ndarray]], fmt: Keypoin
 
 def scored_parts(parts: Callable[[], Iterator[np.ndarray]], fmt: KeypointFormat, up: str,
                  assume: Mapping[str, float], settings: ScoringSettings, mode: str,
-                 rng: np.random.Generator, draws: int
+                 rng: np.random.Generator, draws: int,
+                 neutral: float | Mapping[str, float] = NEUTRAL_CLAVICLE_DEG
                  ) -> Iterator[tuple[Captured, dict[str, np.ndarray]]]:
     """Each part's captured postures and scores (:func:`capture`, :func:`capture_scores`),
-    in order, equal to the rows the whole file gives. ``parts()`` yields the points [m]."""
+    in order, equal to the rows the whole file gives. ``parts()`` yields the points [m];
+    ``neutral`` is the shoulders' (decided before any part is scored)."""
     block = draw_block(draws)
     waiting: list[_Waiting] = []  # parts whose open rows are not all drawn yet
     queue: list[tuple[dict[str, np.ndarray], np.ndarray]] = []  # those rows' columns, unseen
@@ -157,9 +169,9 @@ def scored_parts(parts: Callable[[], Iterator[np.ndarray]], fmt: KeypointFormat,
 
     for points in parts():
         try:
-            captured = capture(points, fmt, up, assume)
+            captured = capture(points, fmt, up, assume, neutral)
         except MeasuredColumnError:
-            measured_assumptions(parts, fmt, up, assume)
+            measured_assumptions(parts, fmt, up, assume, neutral)
             raise
         scores = capture_scores(captured, settings, "interval")
         if mode != "prior":

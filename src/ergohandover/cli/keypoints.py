@@ -28,7 +28,8 @@ from ..ergonomics import ScoringSettings
 from ..ergonomics.posture import POSTURE_COLUMNS
 from ..io.atomic import atomic_write
 from ..io.csv_input import InputError
-from .options import RUNS, check_work, run_folder
+from .options import RUNS, body_from_args, check_work, run_folder
+from .parser import given
 
 MAX_FRAMES = 1_000_000
 """Frames a file may hold to be scored without --yes (5.5 hours of capture at 50 Hz)."""
@@ -52,6 +53,10 @@ FRAME_BYTES = 72
 height, breadth and rise for the checks and whether it misses a point."""
 READ_FACTOR = {".csv": 8.0, ".json": 8.0, ".bvh": 8.0, ".npy": 1.0, ".npz": 1.0}
 """Reading a file of this kind whole takes about this many times its scoring."""
+BODY_FLAGS = ("percentile", "manikin", "stature", "mass", "sex", "elbow_height", "arm_length",
+              "shoulder_height", "measurements", "proportions")
+"""The worker flags ``--keypoints`` reads too: the body whose resting clavicle slope is the
+shoulders' neutral (:mod:`~ergohandover.capture.neutral`)."""
 
 
 def keypoint_format_of(args: argparse.Namespace):
@@ -117,6 +122,14 @@ def score_keypoints(args: argparse.Namespace, settings: ScoringSettings
     if args.joint_map is not None and args.format != "bvh":
         raise InputError(f"--joint-map cannot be used with --format {args.format} (only with "
                          "bvh: the other formats' joints are fixed)")
+    body = [f"--{f.replace('_', '-')}" for f in BODY_FLAGS if f in given(args)]
+    if body and args.neutral_frame is not None:
+        raise InputError(f"--neutral-frame {args.neutral_frame} and {body[0]} both given: "
+                         "the shoulders' neutral is a frame of the file or the body's (give "
+                         "one)")
+    if body and args.format == "bvh":
+        raise InputError(f"{body[0]} cannot be used with --format bvh: the file's rest pose "
+                         "is its body's, the shoulders' neutral (or give --neutral-frame)")
     fmt = keypoint_format_of(args)
     frames, parted = check_size(args, fmt)
     if parted:
@@ -133,6 +146,38 @@ def assumptions(args: argparse.Namespace) -> dict[str, float]:
             raise InputError("--load-kg and --assume load_kg=... both given: give one")
         assume["load_kg"] = args.load_kg
     return assume
+
+
+def shoulders_neutral(args: argparse.Namespace, fmt, up: str, frames: np.ndarray,
+                      points: np.ndarray | None):
+    """The :class:`~ergohandover.capture.neutral.Neutral` shoulder raise is measured from:
+    ``--neutral-frame`` (``points``: that frame's, None when the file lacks it), a BVH rig's
+    rest pose, the body the worker flags describe, or the 50th-percentile man's."""
+    from ..capture.neutral import body_neutral, default_neutral, frame_neutral, rest_neutral
+
+    if args.neutral_frame is not None:
+        return frame_neutral(frames, points, args.neutral_frame, fmt, up, str(args.keypoints))
+    rest = rest_neutral(fmt, up)
+    if rest is not None:
+        return rest
+    if any(f in given(args) for f in BODY_FLAGS):
+        body = body_from_args(args)
+        return body_neutral(body, "the body model's clavicle slope for the worker")
+    return default_neutral()
+
+
+def neutral_note(neutral, share: np.ndarray) -> str:
+    """The summary line's words on the shoulders' neutral, where a shoulder raise is measured
+    (``share``: per POSTURE_COLUMNS, the share of frames in which it is unseen)."""
+    raise_unseen = [share[POSTURE_COLUMNS.index(f"{side}_shoulder_raise")] == 1.0
+                    for side in ("left", "right")]
+    return "" if all(raise_unseen) else f"; {neutral.note()}"
+
+
+def frame_row(frames: np.ndarray, number: int | None) -> int | None:
+    """The first row of frame ``number`` (None: not asked for, or not in ``frames``)."""
+    rows = np.flatnonzero(frames == number) if number is not None else []
+    return int(rows[0]) if len(rows) else None
 
 
 def frames_outside(args: argparse.Namespace, typed: str, frames: np.ndarray) -> InputError:
@@ -170,24 +215,29 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
         kp = type(kp)(kp.frames, kp.points * metres, kp.fmt)
         units, said = f"{metres!r}", f"units {name}, told from the legs"
     up = args.up or kp.fmt.up
+    row = frame_row(kp.frames, args.neutral_frame)
+    neutral_points = None if row is None else kp.points[row]
+    every_frame = kp.frames
     if args.frames is not None:
         keep = (kp.frames >= args.frames[0]) & (kp.frames <= args.frames[1])
         if not keep.any():
             raise frames_outside(args, typed, kp.frames)
         kp = type(kp)(kp.frames[keep], kp.points[keep], kp.fmt)
     missing = check_keypoints(kp, up, args.missing, typed, units)
+    neutral = shoulders_neutral(args, kp.fmt, up, every_frame, neutral_points)
     assume = assumptions(args)
     try:
-        captured = capture(kp.points, kp.fmt, up, assume)
+        captured = capture(kp.points, kp.fmt, up, assume, neutral.degrees)
     except MeasuredColumnError as exc:
         raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
     scores = capture_scores(captured, settings, args.unseen, np.random.default_rng(args.seed),
                             args.draws)
     table = frame_table(kp.frames, captured, scores)
     rig = f": {kp.fmt.title}" if args.format == "bvh" else ""
+    share = captured.unseen.mean(axis=0)
     return table, summary(f"{typed} ({kp.fmt.name}{rig}, up {up}, {said})", len(table),
                           int(captured.unseen.any(axis=1).sum()), kp.frames[missing],
-                          captured.unseen.mean(axis=0))
+                          share) + neutral_note(neutral, share)
 
 
 def frame_table(frames: np.ndarray, captured, scores: dict[str, np.ndarray]) -> pd.DataFrame:
@@ -262,7 +312,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     source = wide_csv_parts(typed, fmt, typed, scale, frames) \
         if Path(typed).suffix.lower() == ".csv" else npy_parts(typed, scale, frames)
     with bar("read", estimate) as shown:
-        read = read_parts(source, fmt, args.frames, shown.update)
+        read = read_parts(source, fmt, args.frames, shown.update, args.neutral_frame)
     try:
         first = next(read.cache.parts(), None)  # the joint order, told from the first part
         if first is not None:
@@ -285,6 +335,8 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
         for k, points in enumerate(parts()):
             tally.add(read.kept[bounds[k]:bounds[k + 1]], points)
         missing = tally.verdict(args.missing, typed, units)
+        # Before any part is scored: every part is measured from the same neutral.
+        neutral = shoulders_neutral(args, fmt, up, read.frames, read.neutral)
         assume = assumptions(args)
         counts = np.zeros(len(POSTURE_COLUMNS), np.int64)
         open_rows = 0
@@ -293,7 +345,8 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
             nonlocal open_rows
             at = 0
             scored = scored_parts(parts, fmt, up, assume, settings, args.unseen,
-                                  np.random.default_rng(args.seed), args.draws)
+                                  np.random.default_rng(args.seed), args.draws,
+                                  neutral.degrees)
             with bar("score", len(read.kept)) as shown:
                 for captured, scores in scored:
                     n = len(captured.unseen)
@@ -312,7 +365,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
         read.cache.close()
     n = len(read.kept)
     line = summary(f"{typed} ({fmt.name}, up {up}, {said})", n, open_rows, read.kept[missing],
-                   counts / n)
+                   counts / n) + neutral_note(neutral, counts / n)
     if written is not None:
         print(f"scored {line} -> {written}", file=sys.stderr)
 

@@ -377,7 +377,7 @@ def converse(args, started, evaluator, grid, prior, searcher, settings, output: 
         args.objective, evaluator.scoring, session.posture_header,
         None if args.answer_format == "score" else args.answer_format,
         {"load_kg": task.box_mass_kg, "coupling": float(task.coupling),
-         "activity": float(task.activity)})
+         "activity": float(task.activity)}, evaluator.body)
     oracle = build_oracle(args, grid, evaluator, reader, output)
     introduce(args, evaluator, grid, prior, session)
     resume = "the same command" + (f" with --output {output}" if new_folder else "")

@@ -16,7 +16,7 @@ from ..ergonomics.posture import COLUMN_BY_NAME, COLUMNS, REQUIRED_COLUMNS
 from ..io.atomic import atomic_write_csv
 from ..io.csv_input import InputError
 from . import defaults
-from .keypoints import MAX_FRAMES, score_keypoints
+from .keypoints import BODY_FLAGS, MAX_FRAMES, score_keypoints
 from .options import (
     add_body_arguments,
     add_dataclass_arguments,
@@ -35,7 +35,7 @@ from .values import BadValue, choice, existing_file, number, output_file, whole
 KEYPOINT_FORMATS = ("h36m17", "coco17", "mediapipe33", "zed34", "smpl24", "bvh")
 """What ``--format`` takes (``ergohandover.capture.FORMATS`` and BVH files)."""
 KEYPOINT_FLAGS = ("format", "up", "units", "frames", "missing", "unseen", "draws", "seed",
-                  "assume", "load_kg", "joint_map", "yes")
+                  "assume", "load_kg", "joint_map", "yes", "neutral_frame")
 """The flags that only ``--keypoints`` reads."""
 
 
@@ -177,6 +177,11 @@ def add_parser(subparsers) -> None:
                          "the legs, among m, cm, mm, inch and CMU's 1/0.45 inch)")
     capture.add_argument("--frames", type=frame_range, metavar="A:B",
                          help="score frames A to B only (1-based, inclusive; A:, :B or N)")
+    capture.add_argument("--neutral-frame", type=whole(1, None), metavar="N",
+                         help="a frame of the file (its number, 1-based) in which the person "
+                         "stands relaxed: each shoulder's raise is measured from its clavicle "
+                         "there (default: a BVH rig's rest pose, else the body model's for "
+                         "the worker flags, else the 50th-percentile man's)")
     capture.add_argument("--joint-map", type=joint_map, metavar="FILE|NAME=JOINT,...",
                          help="with --format bvh: which of the file's joints is each landmark "
                          "(left_hip=LThigh,spine=Spine2,...; the landmarks: docs/capture.md), "
@@ -229,7 +234,8 @@ def run(args: argparse.Namespace) -> int:
                          f"--{'keypoints' if args.keypoints else 'items'} (only with --input, "
                          "a Posture CSV's angles, or --format bvh, a BVH file's rotations)")
     if args.input is None:
-        workload = [f for f in WORKLOAD_FLAGS if f in flags]
+        workload = [f for f in WORKLOAD_FLAGS if f in flags
+                    and (args.keypoints is None or f not in BODY_FLAGS)]
         if workload:
             raise InputError(f"--{workload[0].replace('_', '-')} cannot be used with "
                              f"--{'keypoints' if args.keypoints else 'items'} (only with "

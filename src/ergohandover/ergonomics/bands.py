@@ -73,6 +73,16 @@ def exceeds(values: np.ndarray, threshold: float, severe_on_edge: bool) -> np.nd
     return banded(np.abs(values), (threshold,), (0, 1), severe_on_edge)
 
 
+def elevated(values: np.ndarray, threshold: float, severe_on_edge: bool) -> np.ndarray:
+    """1 where signed ``values`` rise beyond ``threshold`` (a shoulder raised above its neutral):
+    a value below the neutral (a depressed shoulder) never counts, whatever its size.
+
+    Returns:
+        (N,) int8 array of 0/1.
+    """
+    return banded(values, (threshold,), (0, 1), severe_on_edge)
+
+
 def lookup(table: np.ndarray, *indices: np.ndarray) -> np.ndarray:
     """``table[i0 - 1, i1 - 1, ...]`` for 1-based score arrays, via one flat gather."""
     flat = np.zeros(indices[0].shape, dtype=np.intp)

@@ -2,8 +2,9 @@
 
 Columns follow the Posture CSV contract (docs/architecture.md, File contracts). Angles are in
 degrees, signed flexion +, extension −; side bend, twist, abduction, rotation, deviation may be
-signed (scorers use the magnitude). Task factors and flags are optional and take
-documented defaults.
+signed (scorers use the magnitude); shoulder raise is the clavicle's elevation above the body's
+own resting slope, + up, − down (scorers count only elevation: a depressed shoulder is not
+raised). Task factors and flags are optional and take documented defaults.
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bands import SCORE_DTYPE, banded, exceeds, lookup
+from .bands import SCORE_DTYPE, banded, elevated, exceeds, lookup
 from .posture import SIDES, Posture
 from .settings import ScoringSettings
 
@@ -102,7 +102,8 @@ def upper_arm(p: Posture, side: str, s: ScoringSettings) -> np.ndarray:
                    sev)
     score += np.maximum(exceeds(p.arm(side, "upper_arm_abduction"), s.abduction_from_deg, sev),
                         exceeds(p.arm(side, "upper_arm_rotation"), s.rotation_from_deg, sev))
-    score += exceeds(p.arm(side, "shoulder_raise"), s.shoulder_raise_from_deg, sev)
+    # Elevation only: the worksheets' "shoulder raised" is a shrug, not a depression.
+    score += elevated(p.arm(side, "shoulder_raise"), s.shoulder_raise_from_deg, sev)
     score -= p.arm(side, "arm_supported").astype(SCORE_DTYPE)
     return np.maximum(score, 1)
 

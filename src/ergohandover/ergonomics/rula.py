@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bands import SCORE_DTYPE, banded, exceeds, lookup
+from .bands import SCORE_DTYPE, banded, elevated, exceeds, lookup
 from .posture import SIDES, Posture
 from .settings import ScoringSettings
 
@@ -62,7 +62,8 @@ def upper_arm(p: Posture, side: str, s: ScoringSettings) -> np.ndarray:
     sev = s.severe_on_edge
     score = banded(p.arm(side, "upper_arm_flexion"), (-20.0, 20.0, 45.0, 90.0), (2, 1, 2, 3, 4),
                    sev)
-    score += exceeds(p.arm(side, "shoulder_raise"), s.shoulder_raise_from_deg, sev)
+    # Elevation only: the worksheets' "shoulder raised" is a shrug, not a depression.
+    score += elevated(p.arm(side, "shoulder_raise"), s.shoulder_raise_from_deg, sev)
     score += exceeds(p.arm(side, "upper_arm_abduction"), s.abduction_from_deg, sev)
     score -= p.arm(side, "arm_supported").astype(SCORE_DTYPE)
     return np.maximum(score, 1)

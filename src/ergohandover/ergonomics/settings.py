@@ -30,9 +30,10 @@ class ScoringSettings:
     resolution of a goniometer read by eye; 10° for trunk/neck twist and side bend and wrist
     deviation is the smallest deviation an observer reliably sees; 20° for abduction and
     rotation mirrors the worksheet's own 20° flexion band for the upper arm; 10° of clavicle
-    elevation is a visibly raised shoulder; 30° of forearm rotation from mid-position is a
-    third of its range. An angle exactly on a band edge falls in the less severe band, as the
-    worksheets' wording "0–20°" then ">20°" reads. The trunk/neck +1 for twist or side bend is
+    elevation above its resting slope is a visibly raised shoulder (a depressed one is never
+    raised); 30° of forearm rotation from mid-position is a third of its range. An angle
+    exactly on a band edge falls in the less severe band, as the worksheets' wording "0–20°"
+    then ">20°" reads. The trunk/neck +1 for twist or side bend is
     given once (the original paper) rather than once for each.
     """
 
@@ -51,7 +52,7 @@ class ScoringSettings:
     rotation_from_deg: float = ranged(
         20.0, "upper-arm rotation counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
     shoulder_raise_from_deg: float = ranged(
-        10.0, "shoulder raise counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
+        10.0, "shoulder elevation counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
     wrist_deviation_from_deg: float = ranged(
         10.0, "wrist deviation counts beyond this (0-30)", 0.0, MAX_COUNT_FROM_DEG, "deg")
     wrist_twist_from_deg: float = ranged(

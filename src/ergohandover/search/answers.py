@@ -90,6 +90,14 @@ DECIMAL_COMMA = re.compile(r"\d+,\d+")
 """A score typed with a decimal comma; no posture row has two values."""
 
 
+def neutral_slope(body) -> float:
+    """The clavicle slope at rest [deg] of ``body`` (a BodySpec; None: the 50th-percentile
+    man's), which a captured frame's shoulder raise is measured from."""
+    from ..capture.angles import NEUTRAL_CLAVICLE_DEG, clavicle_slope_deg
+
+    return NEUTRAL_CLAVICLE_DEG if body is None else clavicle_slope_deg(body)
+
+
 class AnswerReader:
     """Turns answer lines into scores of ``objective``; remembers a posture header line.
 
@@ -103,17 +111,20 @@ class AnswerReader:
             scores, x and posture rows).
         task: the Posture columns a captured frame cannot show, known from the session's task
             (the box's mass as ``load_kg``, ``coupling``, ``activity``).
+        body: the session's worker, whose resting clavicle slope a captured frame's shoulder
+            raise is measured from (None: the 50th-percentile man's).
     """
 
     def __init__(self, objective: str, scoring: ScoringSettings | None = None,
                  header: tuple[str, ...] | None = None, keypoints: str | None = None,
-                 task: dict[str, float] | None = None):
+                 task: dict[str, float] | None = None, body=None):
         self.objective = objective
         self.lo, self.hi = SCORE_RANGES[objective]
         self.scoring = scoring or ScoringSettings()
         self.header = header
         self.keypoints = None if keypoints is None else frame_format(keypoints, objective)
         self.task = task or {}
+        self.body = body
 
     def begin(self, previous: tuple | None) -> None:
         """A score does not depend on the handover before it (:class:`PreferenceReader`'s
@@ -199,7 +210,7 @@ class AnswerReader:
             frame = Keypoints(np.array([1]), points, fmt)
             check_format(frame, "the frame", "--answer-format keypoints:{}")
             check_keypoints(frame, up, "unseen", "the frame")
-            captured = capture(points, fmt, up, assume=self.task)
+            captured = capture(points, fmt, up, self.task, neutral_slope(self.body))
         except ErgohandoverError as exc:
             raise Refused(str(exc)) from None
         scores = capture_scores(captured, self.scoring)

@@ -79,6 +79,8 @@ def posture_columns(st: KinematicState, task: TaskSpec,
         cols[f"{side}_upper_arm_flexion"] = _deg(np.arctan2(arm[:, 0], -arm[:, 2]))
         cols[f"{side}_upper_arm_abduction"] = _deg(np.arcsin(np.clip(outward * arm[:, 1], -1, 1)))
         cols[f"{side}_upper_arm_rotation"] = joint(f"{side}_shoulder_rotation")
+        # The joint's zero is this body's own resting clavicle (its shoulder drop over its
+        # clavicle length), so the raise is measured from the body's neutral, + up, - down.
         cols[f"{side}_shoulder_raise"] = joint(f"{side}_clavicle_elevation")
         cols[f"{side}_elbow_flexion"] = joint(f"{side}_elbow_flexion")
         cols[f"{side}_wrist_flexion"] = joint(f"{side}_wrist_flexion")

@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ...capture import FORMATS, capture, capture_scores
+from ...capture.angles import clavicle_slope_deg
 from ...capture.placement import place
 from ...capture.unseen import SCORES
 from ...ergonomics import Posture, score_postures
@@ -47,8 +48,9 @@ def twin_postures(evaluator: Evaluator, locations: np.ndarray):
 def column_table(evaluator: Evaluator, state, truth: dict[str, np.ndarray]) -> pd.DataFrame:
     """Per format and angle column: the share measured and the error where measured [deg]."""
     rows = []
+    neutral = clavicle_slope_deg(evaluator.body)  # the twin's own body's shoulders at rest
     for name, fmt in FORMATS.items():
-        found = capture(place(state, evaluator.body, fmt), fmt)
+        found = capture(place(state, evaluator.body, fmt), fmt, neutral=neutral)
         for column in ANGLES:
             seen = ~found.unseen[:, POSTURE_COLUMNS.index(column)]
             error = np.abs((found.columns[column][seen] - truth[column][seen] + 180.0) % 360.0
@@ -68,8 +70,9 @@ def score_table(evaluator: Evaluator, state, truth: dict[str, np.ndarray],
     task = {name: float(truth[name][0]) for name in TASK}
     n = len(truth["trunk_flexion"])
     rows = []
+    neutral = clavicle_slope_deg(evaluator.body)
     for name, fmt in FORMATS.items():
-        exact = capture(place(state, evaluator.body, fmt), fmt, assume=task)
+        exact = capture(place(state, evaluator.body, fmt), fmt, assume=task, neutral=neutral)
         for sd in angle_sds:
             rng = np.random.default_rng([seed, len(rows)])
             columns = {c: np.repeat(v, draws) for c, v in exact.columns.items()}
