@@ -21,9 +21,8 @@ import argparse
 import numpy as np
 import pandas as pd
 
-from ergohandover.search import Budget
+from ergohandover.search import Budget, make
 from ergohandover.search import run as run_search
-from ergohandover.search.fitted_twin import FittedTwinSearcher
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.personalise import measured_answers as measured
 from ergohandover.study.personalise.sessions import (
@@ -46,12 +45,18 @@ NEAR = 0.8
 as its recommendation."""
 
 
-def fitted_twin_runs(workers: str, runs: int, budget: int, answers: measured.Answers,
-                     **searcher):
-    """Run the fitted twin as the study does, on the population's workers ``first-last``:
-    yields (worker, the worker's true values, the searcher after ``budget`` handovers) per run.
-    ``searcher``: keyword arguments for the searcher (``lookahead=False``)."""
-    first, last = map(int, workers.split("-"))
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--workers", default="1-30", help="the population's sampled workers, "
+                        "first-last (default 1-30: the study's)")
+    parser.add_argument("--runs", type=int, default=5, help="runs per worker (default 5)")
+    parser.add_argument("--budget", type=int, default=10, help="handovers (default 10)")
+    parser.add_argument("--answers", default="posture:5",
+                        help="KIND:LEVEL as the study's answer models (default posture:5)")
+    args = parser.parse_args()
+    first, last = map(int, args.workers.split("-"))
+    kind, level = args.answers.split(":")
+    answers = measured.Answers(kind, float(level))
     config = StudyConfig()
     part = config.personalise
     table = config.population.workers()
@@ -64,46 +69,29 @@ def fitted_twin_runs(workers: str, runs: int, budget: int, answers: measured.Ans
     changed = [(w, k, unknown_twin(k, e)) for k in part.measured_unknown
                if group_of(k) == IMPAIRED for w, e in everyone[:part.measured_unknown_workers]]
     candidates = [*everyone, *impaired_candidates(changed)]
+    rows = []
     for worker, evaluator in everyone[first - 1:last]:
         job = measured.MeasuredJob(worker, measured.IN_MODEL, evaluator, grid, part.objective,
-                                   "fitted-twin", answers, (budget,), (), priors[worker])
+                                   "fitted-twin", answers, (args.budget,), (), priors[worker])
         values = measured.truth_of(job)
+        optimum = np.flatnonzero(values == values.min())
         body = evaluator.body
         twins = measured.candidate_library(
             [c for c in candidates if not own_candidate(c[0], worker)], grid, part.objective,
             worker=(body.stature_m, body.sex), angle_sd_deg=measured.angle_sds(answers),
             error=answers.error)
-        for seed in run_seeds(part.seed, worker, runs):
+        for seed in run_seeds(part.seed, worker, args.runs):
             source = answers.source(grid, evaluator, part.objective, values,
                                     measured.measurement_rng(seed, answers), {})
-            found = FittedTwinSearcher(grid, seed, priors[worker], twins=twins, **searcher)
-            run_search(found, source, Budget(evaluations=budget))
-            yield worker, values, found
-
-
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--workers", default="1-30", help="the population's sampled workers, "
-                        "first-last (default 1-30: the study's)")
-    parser.add_argument("--runs", type=int, default=5, help="runs per worker (default 5)")
-    parser.add_argument("--budget", type=int, default=10, help="handovers (default 10)")
-    parser.add_argument("--answers", default="posture:5",
-                        help="KIND:LEVEL as the study's answer models (default posture:5)")
-    args = parser.parse_args()
-    kind, level = args.answers.split(":")
-    answers = measured.Answers(kind, float(level))
-    rows = []
-    for worker, values, searcher in fitted_twin_runs(args.workers, args.runs, args.budget,
-                                                     answers):
-        optimum = np.flatnonzero(values == values.min())
-        chosen = searcher.recommend()
-        p = searcher.posterior.p_optimal()
-        rows.append({"worker": worker, "optimum_cells": len(optimum),
-                     "missed": values[chosen.cell] > values.min(),
-                     "p_recommended": chosen.p_optimal, "p_true": float(p[optimum].max())})
-        if len(rows) % args.runs == 0:
-            print(f"{worker}: {sum(r['missed'] for r in rows if r['worker'] == worker)} of "
-                  f"{args.runs} missed", flush=True)
+            searcher = make("fitted-twin", grid, seed, priors[worker], twins=twins)
+            run_search(searcher, source, Budget(evaluations=args.budget))
+            chosen = searcher.recommend()
+            p = searcher.posterior.p_optimal()
+            rows.append({"worker": worker, "optimum_cells": len(optimum),
+                         "missed": values[chosen.cell] > values.min(),
+                         "p_recommended": chosen.p_optimal, "p_true": float(p[optimum].max())})
+        print(f"{worker}: {sum(r['missed'] for r in rows if r['worker'] == worker)} of "
+              f"{args.runs} missed", flush=True)
     found = pd.DataFrame(rows)
     missed = found[found["missed"]]
     near = missed["p_true"] >= NEAR * missed["p_recommended"]

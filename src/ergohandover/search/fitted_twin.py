@@ -25,11 +25,8 @@ candidate's at the displaced cell) and where the worker's optimum lies (the cand
 - **Recommendation** (:meth:`FittedTwinSearcher.recommend`): the cell with the highest posterior
   probability of being the worker's optimum, and that probability; a single low reading moves
   it only as far as it moves the posterior.
-- **Proposal**: the first handover where the optimum is most probable (the prior's best
-  guess; equal: nearest the prior); after it, among the untried cells most probable to be the
-  optimum, the one whose answer is expected to leave the recommendation most probable
-  (:func:`~.lookahead.most_telling`), because near the optimum the most probable cell is
-  often the one whose answer tells the hypotheses apart least.
+- **Proposal**: that cell while it is untried, else the untried cell of highest probability
+  (equal: nearest the prior).
 """
 
 from __future__ import annotations
@@ -48,7 +45,6 @@ from ..landscape.sweep import ANGLES as LANDSCAPE_ANGLES
 from ..robustness.measured_error import MEASURED_ERROR, MeasuredError
 from ..robustness.posture_error import ANGLE_COLUMNS, PAIRED, ErrorModel
 from ..twin.evaluate import Evaluator
-from . import lookahead
 from .cells import NewCellSearcher, prior_point
 from .prior import Prior
 from .protocol import Recommendation
@@ -334,22 +330,19 @@ class FittedTwinSearcher(NewCellSearcher):
         grid, seed, prior: as every searcher's (the prior is needed: its location breaks ties
             and its slope centres the displacements).
         twins: the candidate twins.
-        lookahead: propose the most telling handover (the default) or, if False, the most
-            probable optimum untried (the greedy proposal, kept to compare the two:
-            experiments/tools/compare_proposals.py).
     """
 
     name = "fitted-twin"
 
     def __init__(self, grid: Grid, seed: int, prior: Prior | None = None,
-                 twins: TwinLibrary | None = None, lookahead: bool = True):
+                 twins: TwinLibrary | None = None):
         if prior is None:
             raise ConfigError("searcher fitted-twin needs a worker's prior (a population "
                               "prior's location and SD)")
         if twins is None:
             raise ConfigError("searcher fitted-twin needs candidate twins (a TwinLibrary)")
         super().__init__(grid, seed, prior)
-        self.twins, self.lookahead = twins, lookahead
+        self.twins = twins
         self.posterior = BodyPosterior(twins, prior)
         centre, _ = prior_point(grid, prior)
         index = np.indices(grid.shape).reshape(3, -1).T
@@ -373,18 +366,10 @@ class FittedTwinSearcher(NewCellSearcher):
         return Recommendation(cell, float(self.posterior.p_optimal()[cell]))
 
     def _propose(self) -> int:
-        untried = []
         for cell in self._ranked():
             if int(cell) not in self.told:
-                untried.append(int(cell))
-                if not self.lookahead or not self.heard or len(untried) == lookahead.CELLS:
-                    break
-        if not untried:
-            raise ConfigError("searcher fitted-twin: every cell has been evaluated")
-        if len(untried) == 1:
-            return untried[0]
-        return lookahead.most_telling(self.posterior, np.array(untried),
-                                      self.heard[next(reversed(self.heard))])
+                return int(cell)
+        raise ConfigError("searcher fitted-twin: every cell has been evaluated")
 
     def _learn(self, cell: int, score: float) -> None:
         self.posterior.update(cell, self.heard[cell])
