@@ -148,6 +148,27 @@ def assumptions(args: argparse.Namespace) -> dict[str, float]:
     return assume
 
 
+def read_unit(args: argparse.Namespace, inferred) -> tuple[str, str, float | None]:
+    """The unit the checks name, the summary's words for it, and the factor that takes a file
+    read in its own unit to metres (None: ``--units`` was given and read in); ``inferred()``:
+    the unit told from the legs, (name, metres per unit)."""
+    if args.units is not None:
+        return args.units, f"--units {args.units}", None
+    name, metres = inferred()
+    return f"{metres!r}", f"units {name}, told from the legs", metres
+
+
+@contextlib.contextmanager
+def assumed(assume: dict[str, float]):
+    """``--assume`` refused in one line where it would replace a measured column."""
+    from ..capture.captured import MeasuredColumnError
+
+    try:
+        yield
+    except MeasuredColumnError as exc:
+        raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
+
+
 def shoulders_neutral(args: argparse.Namespace, fmt, up: str, frames: np.ndarray,
                       points: np.ndarray | None):
     """The :class:`~ergohandover.capture.neutral.Neutral` shoulder raise is measured from:
@@ -192,7 +213,6 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     scoring."""
     from ..capture import capture, capture_scores
     from ..capture.bones import check_format
-    from ..capture.captured import MeasuredColumnError
     from ..capture.checks import check_keypoints, infer_unit
     from ..capture.readers import read_keypoints
 
@@ -209,11 +229,9 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     else:
         kp = read_keypoints(typed, keypoint_format_of(args), units)
     check_format(kp, typed)  # a wrong joint order, before any check that names --up or --units
-    said = f"--units {args.units}"
-    if args.units is None:
-        name, metres = infer_unit(kp, typed)
+    units, said, metres = read_unit(args, lambda: infer_unit(kp, typed))
+    if metres is not None:
         kp = type(kp)(kp.frames, kp.points * metres, kp.fmt)
-        units, said = f"{metres!r}", f"units {name}, told from the legs"
     up = args.up or kp.fmt.up
     row = frame_row(kp.frames, args.neutral_frame)
     neutral_points = None if row is None else kp.points[row]
@@ -226,18 +244,15 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     missing = check_keypoints(kp, up, args.missing, typed, units)
     neutral = shoulders_neutral(args, kp.fmt, up, every_frame, neutral_points)
     assume = assumptions(args)
-    try:
+    with assumed(assume):
         captured = capture(kp.points, kp.fmt, up, assume, neutral.degrees)
-    except MeasuredColumnError as exc:
-        raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
     scores = capture_scores(captured, settings, args.unseen, np.random.default_rng(args.seed),
                             args.draws)
     table = frame_table(kp.frames, captured, scores)
     rig = f": {kp.fmt.title}" if args.format == "bvh" else ""
-    share = captured.unseen.mean(axis=0)
     return table, summary(f"{typed} ({kp.fmt.name}{rig}, up {up}, {said})", len(table),
                           int(captured.unseen.any(axis=1).sum()), kp.frames[missing],
-                          share) + neutral_note(neutral, share)
+                          captured.unseen.mean(axis=0), neutral)
 
 
 def frame_table(frames: np.ndarray, captured, scores: dict[str, np.ndarray]) -> pd.DataFrame:
@@ -258,14 +273,15 @@ def frame_table(frames: np.ndarray, captured, scores: dict[str, np.ndarray]) -> 
 
 
 def summary(source: str, frames: int, open_rows: int, missing: np.ndarray,
-            share: np.ndarray) -> str:
+            share: np.ndarray, neutral) -> str:
     """What a capture measured, for its line: ``frames`` frames of ``source``, ``open_rows``
-    of them with an unseen column, the frame numbers ``missing`` points, and each column's
-    share of frames in which it is unseen."""
+    of them with an unseen column, the frame numbers ``missing`` points, each column's share
+    of frames in which it is unseen, and the shoulders' ``neutral`` where a raise is
+    measured."""
     shown = ", ".join(map(str, missing[:10])) + (", …" if len(missing) > 10 else "")
     note = f"; {len(missing)} with missing points (frames {shown})" if len(missing) else ""
     return (f"{frames} frames of {source}: {frames - open_rows} with every column measured"
-            f"{note}{unseen_note(share)}")
+            f"{note}{unseen_note(share)}{neutral_note(neutral, share)}")
 
 
 def unseen_note(share: np.ndarray) -> str:
@@ -295,7 +311,6 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     and the summary line are those of :func:`keypoint_scores`, and nothing is written unless
     every frame is."""
     from ..capture.bones import check_format
-    from ..capture.captured import MeasuredColumnError
     from ..capture.checks import CheckTally
     from ..capture.chunks import npy_parts, wide_csv_parts
     from ..capture.large import (
@@ -306,8 +321,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
     from ..capture.readers import Keypoints, repeated_frame, unit_scale
 
     typed = str(args.keypoints)
-    units = args.units or "m"
-    scale = unit_scale(units, typed)
+    scale = unit_scale(args.units or "m", typed)  # without --units: the file's own, then told
     frames = part_frames(fmt)
     source = wide_csv_parts(typed, fmt, typed, scale, frames) \
         if Path(typed).suffix.lower() == ".csv" else npy_parts(typed, scale, frames)
@@ -318,10 +332,7 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
         if first is not None:
             check_format(Keypoints(read.kept[:len(first)], first, fmt), typed)
         repeated_frame(read.frames, typed)
-        said, metres = f"--units {args.units}", None
-        if args.units is None:
-            name, metres = unit_of_legs(read.legs, fmt, typed)
-            units, said = f"{metres!r}", f"units {name}, told from the legs"
+        units, said, metres = read_unit(args, lambda: unit_of_legs(read.legs, fmt, typed))
         if args.frames is not None and read.kept.size == 0:
             raise frames_outside(args, typed, read.frames)
         up = args.up or fmt.up
@@ -357,15 +368,13 @@ def write_in_parts(args: argparse.Namespace, settings: ScoringSettings, fmt,
                     at += n
                     shown.update(n)
 
-        try:
+        with assumed(assume):
             written = write_output(args, write)
-        except MeasuredColumnError as exc:
-            raise InputError(f"--assume {exc.column}={assume[exc.column]:g}: {exc}") from None
     finally:
         read.cache.close()
     n = len(read.kept)
     line = summary(f"{typed} ({fmt.name}, up {up}, {said})", n, open_rows, read.kept[missing],
-                   counts / n) + neutral_note(neutral, counts / n)
+                   counts / n, neutral)
     if written is not None:
         print(f"scored {line} -> {written}", file=sys.stderr)
 
