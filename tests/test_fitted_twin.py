@@ -17,6 +17,7 @@ from ergohandover.search import Budget, make, run
 from ergohandover.search.fitted_twin import (
     BODY_SD_DEG,
     FIELD_ANGLES,
+    SHIFT_RANGE_M,
     BodyPosterior,
     TwinLibrary,
     angle_error,
@@ -127,16 +128,29 @@ def test_a_handover_the_worker_could_not_take_counts_against_candidates_who_coul
 
 def test_displacements_follow_the_grid_and_the_optimum_probability_is_a_probability():
     coarse = BodyPosterior(library(1), PRIOR)
-    assert len(coarse.shifts) == 1  # 5 cm cells: no displacement fits within 2 cm
+    assert len(coarse.shifts) == 1  # 5 cm cells: no displacement fits within 3 cm
     fine = Grid(Boundary((-0.02, 0.02), (1.0, 1.1), (0.4, 0.46)), 0.01)
     lib = TwinLibrary(fine, EVALUATORS, lambda i: landscape_of(EVALUATORS[i], fine,
                                                                progress=False),
                       "paper_postural", NAMES, worker=(1.75, "male"))
     posterior = BodyPosterior(lib, PRIOR)
-    assert len(posterior.shifts) == 25 and set(posterior.shifts[:, 0]) == {0}
+    side = 2 * round(SHIFT_RANGE_M / 0.01) + 1  # up and forward, never sideways
+    assert len(posterior.shifts) == side ** 2 and set(posterior.shifts[:, 0]) == {0}
     p = posterior.p_optimal()
     assert ((p >= 0) & (p <= 1 + 1e-12)).all() and p.max() > 0
     assert posterior.weights.sum() == pytest.approx(1.0)
+    # Each cell's probability is the weight of the hypotheses whose moved optimum holds it.
+    feasible = np.flatnonzero(np.isfinite(lib.values(2)))
+    for cell in feasible[::7][:3]:
+        posterior.update(int(cell), Answer(float(lib.values(2)[cell])))
+    weights, shape, expected = posterior.weights, np.array(fine.shape), np.zeros(fine.size)
+    for k, d in zip(*np.nonzero(weights), strict=True):
+        for cell in lib.optimum(int(k)):
+            moved = np.array(np.unravel_index(cell, fine.shape)) + posterior.shifts[d]
+            if ((moved >= 0) & (moved < shape)).all():
+                expected[np.ravel_multi_index(tuple(moved), fine.shape)] += weights[k, d]
+    assert posterior._p_optimal is None  # the update forgot the old answer
+    assert np.allclose(posterior.p_optimal(), np.minimum(expected, 1.0), atol=1e-12)
 
 
 def test_the_searcher_needs_twins_and_a_prior():

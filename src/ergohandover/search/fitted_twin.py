@@ -55,9 +55,9 @@ STATURE_BANDWIDTH_M = 0.03
 SHIFT_AXES = (1, 2)
 """The grid's axes a hypothesis displaces the candidate along: up (y) and forward (z) of the
 worker frame, where an optimum moves with stature; sideways it stays on the midline."""
-SHIFT_RANGE_M, SHIFT_SD_M = 0.02, 0.01
+SHIFT_RANGE_M, SHIFT_SD_M = 0.03, 0.015
 """The largest displacement per axis [m] and the spread of its prior about the stature slope's
-[m]."""
+[m]: chosen on the population's workers 31-60, not the study's 30 (docs/personalise.md)."""
 BODY_SD_DEG = 3.0
 """How far a worker's angle may lie from the best hypothesis's even without measurement error
 [deg] (bodies differ by more than stature and a displacement): added in quadrature to the
@@ -308,17 +308,20 @@ class BodyPosterior:
         cells, every one of them the optimum)."""
         if self._p_optimal is None:
             weights = self.weights
-            total = np.zeros(int(self.shape.prod()))
-            for k in np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max()):
-                cells = self.library.optimum(int(k))
-                index = np.array(np.unravel_index(cells, tuple(self.shape))).T  # (n, 3)
-                moved = index[None, :, :] + self.shifts[:, None, :]  # (D, n, 3)
-                inside = ((moved >= 0) & (moved < self.shape)).all(axis=2)
-                flat = np.ravel_multi_index(tuple(np.clip(moved, 0, self.shape - 1).T),
-                                            tuple(self.shape)).T  # (D, n)
-                share = np.broadcast_to(weights[k][:, None], flat.shape)
-                total += np.bincount(flat[inside], share[inside], minlength=total.size)
-            self._p_optimal = np.minimum(total, 1.0)  # 1 but for rounding
+            live = np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max())
+            optima = [self.library.optimum(int(k)) for k in live]
+            cells = np.concatenate(optima)
+            owner = np.repeat(live, [len(o) for o in optima])
+            shape = tuple(int(n) for n in self.shape)
+            total = np.zeros(shape)
+            # Per displacement, every candidate's optimum weighed at once, then moved by it.
+            for d, shift in enumerate(self.shifts):
+                field = np.bincount(cells, weights[owner, d], minlength=total.size)
+                pairs = list(zip(shift.tolist(), shape, strict=True))
+                source = tuple(slice(max(0, -m), n - max(0, m)) for m, n in pairs)
+                target = tuple(slice(max(0, m), n - max(0, -m)) for m, n in pairs)
+                total[target] += field.reshape(shape)[source]
+            self._p_optimal = np.minimum(total.ravel(), 1.0)  # 1 but for rounding
         return self._p_optimal
 
 
@@ -347,6 +350,7 @@ class FittedTwinSearcher(NewCellSearcher):
         centre, _ = prior_point(grid, prior)
         index = np.indices(grid.shape).reshape(3, -1).T
         self._distance = np.linalg.norm(index - centre, axis=1)  # ties: nearest the prior
+        self._nearest = np.argsort(self._distance, kind="stable")
 
     @property
     def chosen(self) -> int:
@@ -359,7 +363,10 @@ class FittedTwinSearcher(NewCellSearcher):
 
     def _ranked(self) -> np.ndarray:
         """Cells by the optimum's probability, highest first (equal: nearest the prior)."""
-        return np.lexsort((self._distance, -self.posterior.p_optimal()))
+        p = self.posterior.p_optimal()
+        held = np.flatnonzero(p > 0)  # few cells: sorted alone, then the rest by distance
+        return np.concatenate([held[np.lexsort((self._distance[held], -p[held]))],
+                               self._nearest[p[self._nearest] == 0]])
 
     def recommend(self) -> Recommendation:
         cell = int(self._ranked()[0])
