@@ -9,6 +9,7 @@ import io
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 from ergohandover.cli import main
 
@@ -39,3 +40,24 @@ def wait_for(condition, what: str, timeout: float = 120) -> None:
         if time.monotonic() > end:
             raise AssertionError(f"timed out waiting for {what}")
         time.sleep(0.1)
+
+
+def score_whole_and_in_parts(tmp_path: Path, argv: list[str], monkeypatch) -> tuple[str, str]:
+    """``ergohandover score ARGV`` with a keypoint file read whole, then in parts (the reader's
+    choice patched): both must succeed with the same scores CSV, byte for byte, and the same
+    summary line; returns them."""
+    import ergohandover.capture.chunks as chunks
+
+    outputs = []
+    for parted in (False, True):
+        out = tmp_path / f"out_{parted}.csv"
+        with monkeypatch.context() as patch:
+            if not parted:
+                patch.setattr(chunks, "streamed", lambda path, fmt: False)
+            done = run_cli("score", *argv, "--output", str(out))
+        assert done.returncode == 0, done.stderr
+        outputs.append((out.read_bytes(), done.stderr.replace(str(out), "OUT")))
+    (whole, whole_line), (parted, parted_line) = outputs
+    assert parted == whole
+    assert parted_line == whole_line
+    return whole.decode(), whole_line

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from cli_run import score_whole_and_in_parts
 
 import ergohandover.capture.chunks as chunks
 from ergohandover.capture import FORMATS, keypoint_format
@@ -62,31 +63,14 @@ def parts(monkeypatch):
     monkeypatch.setattr(cli_keypoints, "PART_VALUES", 3 * 34 * PART)
 
 
-def whole_and_parts(tmp_path: Path, argv: list[str], capsys, monkeypatch) -> tuple[str, str]:
-    """The scores CSV and summary of ``argv`` read whole, then in parts; both must succeed."""
-    outputs = []
-    for parted in (False, True):
-        out = tmp_path / f"out_{parted}.csv"
-        with monkeypatch.context() as patch:
-            if not parted:
-                patch.setattr(chunks, "streamed", lambda path, fmt: False)
-            code, err = run([*argv, "--output", str(out)], capsys)
-        assert code == 0, err
-        outputs.append((out.read_bytes(), err.replace(str(out), "OUT")))
-    (whole, whole_line), (parted, parted_line) = outputs
-    assert parted == whole
-    assert parted_line == whole_line
-    return whole.decode(), whole_line
-
-
 @pytest.mark.parametrize("name", list(FORMATS))
 @pytest.mark.parametrize("kind", ["csv", "npy"])
-def test_every_format_read_in_parts_gives_the_whole_files_bytes(name, kind, tmp_path, capsys,
+def test_every_format_read_in_parts_gives_the_whole_files_bytes(name, kind, tmp_path,
                                                                  monkeypatch, parts):
     path = made(tmp_path, name, kind)
     assert chunks.streamed(path, keypoint_format(name))
-    text, line = whole_and_parts(tmp_path, ["--keypoints", str(path), "--format", name,
-                                            "--load-kg", "6"], capsys, monkeypatch)
+    text, line = score_whole_and_in_parts(
+        tmp_path, ["--keypoints", str(path), "--format", name, "--load-kg", "6"], monkeypatch)
     assert text.count("\n") == FRAMES + 1
     assert f"scored {FRAMES} frames of {path}" in line
 
@@ -99,7 +83,7 @@ def test_every_format_read_in_parts_gives_the_whole_files_bytes(name, kind, tmp_
     ["--unseen", "prior", "--draws", "3"],  # one block: every part's rows wait to the end
     ["--assume", "neck_twist=10", "--up=-y"],
 ])
-def test_options_that_carry_across_parts_give_the_whole_files_bytes(flags, tmp_path, capsys,
+def test_options_that_carry_across_parts_give_the_whole_files_bytes(flags, tmp_path,
                                                                    monkeypatch, parts):
     def holes(points):
         points[[3, 17, 18, 40], 13] = np.nan  # the left wrist, in four parts' frames
@@ -107,22 +91,22 @@ def test_options_that_carry_across_parts_give_the_whole_files_bytes(flags, tmp_p
     frame_column = "20" not in flags
     path = made(tmp_path, "h36m17", edit=holes if "unseen" in flags else None,
                 frame_column=frame_column)
-    text, line = whole_and_parts(tmp_path, ["--keypoints", str(path), "--format", "h36m17",
-                                            *flags], capsys, monkeypatch)
+    text, line = score_whole_and_in_parts(
+        tmp_path, ["--keypoints", str(path), "--format", "h36m17", *flags], monkeypatch)
     if "--missing" in flags:
         assert "4 with missing points (frames 104, 118, 119, 141)" in line
     if "prior" in flags:
         assert "reba_probabilities" in text.partition("\n")[0]
 
 
-def test_a_file_without_frame_numbers_and_an_unknown_unit_reads_in_parts(tmp_path, capsys,
+def test_a_file_without_frame_numbers_and_an_unknown_unit_reads_in_parts(tmp_path,
                                                                          monkeypatch, parts):
     def centimetres(points):
         points *= 100.0
 
     path = made(tmp_path, "coco17", frame_column=False, edit=centimetres)
-    _, line = whole_and_parts(tmp_path, ["--keypoints", str(path), "--format", "coco17"],
-                              capsys, monkeypatch)
+    _, line = score_whole_and_in_parts(
+        tmp_path, ["--keypoints", str(path), "--format", "coco17"], monkeypatch)
     assert "units cm, told from the legs" in line
 
 

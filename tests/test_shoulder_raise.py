@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from cli_run import run_cli
+from cli_run import run_cli, score_whole_and_in_parts
 
 import ergohandover.capture.chunks as chunks
 from ergohandover.capture import capture, keypoint_format
@@ -320,17 +320,8 @@ def test_parts_give_the_whole_files_bytes(flags, tmp_path, monkeypatch):
     path = h36m_file(tmp_path, P5, [0.0, 20.0, -15.0, 5.0, 12.0], frames=40)
     monkeypatch.setattr(cli_keypoints, "PART_VALUES", 3 * 17 * 6)
     assert chunks.streamed(path, keypoint_format("h36m17"))
-    outputs = []
-    for parted in (False, True):
-        out = tmp_path / f"out_{parted}.csv"
-        with monkeypatch.context() as patch:
-            if not parted:
-                patch.setattr(chunks, "streamed", lambda path, fmt: False)
-            done = run_cli("score", "--keypoints", str(path), "--format", "h36m17", *flags,
-                           "--output", str(out))
-        assert done.returncode == 0, done.stderr
-        outputs.append((out.read_bytes(), done.stderr.replace(str(out), "OUT")))
-    assert outputs[0] == outputs[1]
-    assert "shoulder raise from" in outputs[0][1]
+    _, line = score_whole_and_in_parts(
+        tmp_path, ["--keypoints", str(path), "--format", "h36m17", *flags], monkeypatch)
+    assert "shoulder raise from" in line
     raised = pd.read_csv(tmp_path / "out_True.csv")["left_shoulder_raise"].to_numpy()
     assert np.nanmax(raised) == pytest.approx(20.0, abs=0.01)
