@@ -28,6 +28,7 @@ from .captured import Captured, MeasuredColumnError, capture, capture_scores
 from .checks import infer_unit, leg_lengths
 from .chunks import Part
 from .formats import KeypointFormat
+from .neutral import frame_row
 from .readers import Keypoints
 from .unseen import SCORES, draw_block, score_distributions
 
@@ -99,9 +100,9 @@ def read_parts(parts: Iterator[Part], fmt: KeypointFormat, keep: tuple[int, int]
     try:
         for part in parts:
             frames.append(part.frames)
-            if neutral is None and neutral_frame is not None:
-                rows = np.flatnonzero(part.frames == neutral_frame)
-                neutral = part.points[rows[0]].copy() if rows.size else None
+            row = frame_row(part.frames, neutral_frame) if neutral is None else None
+            if row is not None:
+                neutral = part.points[row].copy()
             legs.append(leg_lengths(part.points, fmt))
             mask = slice(None) if keep is None else \
                 (part.frames >= keep[0]) & (part.frames <= keep[1])

@@ -42,6 +42,13 @@ class Neutral(NamedTuple):
         return f"shoulder raise from {self.said} ({slopes}{self.hint})"
 
 
+def frame_row(frames: np.ndarray, number: int | None) -> int | None:
+    """The first row of frame ``number`` (None: not asked for, or not in ``frames``): the
+    frame whose slopes are the neutral, whether a file is read whole or in parts."""
+    rows = np.flatnonzero(frames == number) if number is not None else []
+    return int(rows[0]) if len(rows) else None
+
+
 def default_neutral() -> Neutral:
     """The 50th-percentile man's slope, when nothing says the person's own."""
     return Neutral(dict.fromkeys(SIDES, NEUTRAL_CLAVICLE_DEG),

@@ -195,12 +195,6 @@ def neutral_note(neutral, share: np.ndarray) -> str:
     return "" if all(raise_unseen) else f"; {neutral.note()}"
 
 
-def frame_row(frames: np.ndarray, number: int | None) -> int | None:
-    """The first row of frame ``number`` (None: not asked for, or not in ``frames``)."""
-    rows = np.flatnonzero(frames == number) if number is not None else []
-    return int(rows[0]) if len(rows) else None
-
-
 def frames_outside(args: argparse.Namespace, typed: str, frames: np.ndarray) -> InputError:
     last = "" if args.frames[1] == sys.maxsize else args.frames[1]
     return InputError(f"--frames {args.frames[0]}:{last}: {typed} has frames "
@@ -214,6 +208,7 @@ def keypoint_scores(args: argparse.Namespace, settings: ScoringSettings
     from ..capture import capture, capture_scores
     from ..capture.bones import check_format
     from ..capture.checks import check_keypoints, infer_unit
+    from ..capture.neutral import frame_row
     from ..capture.readers import read_keypoints
 
     typed = str(args.keypoints)
