@@ -145,6 +145,9 @@ def main() -> None:
     answers = measured.Answers(kind, float(level))
     config = StudyConfig()
     part = config.personalise
+    if args.offset_error is not None and part.objective != "paper_postural":
+        parser.error(f"--offset-error rescores the paper's score; the study's objective is "
+                     f"{part.objective}")
     table = config.population.workers()
     population = pd.read_csv("results/population/workers.csv")
     evaluators = [Evaluator(b, config.task()) for b in bodies(table)]
@@ -157,9 +160,6 @@ def main() -> None:
     candidates = [*everyone, *impaired_candidates(changed)]
     if args.extra_bodies:
         candidates += extra_candidates(config, grid, args.extra_bodies)
-    if args.offset_error is not None and part.objective != "paper_postural":
-        parser.error(f"--offset-error rescores the paper's score; the study's objective is "
-                     f"{part.objective}")
     offset_rng = np.random.default_rng([part.seed, 1])
     rows = []
     for worker, evaluator in everyone[first - 1:last]:
