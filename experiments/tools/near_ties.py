@@ -172,10 +172,11 @@ def main() -> None:
             [c for c in candidates if not own_candidate(c[0], worker)], grid, part.objective,
             worker=(body.stature_m, body.sex), angle_sd_deg=measured.angle_sds(answers),
             error=answers.error)
-        truth = landscape_of(evaluator, grid, progress=False)
-        true_angles = np.column_stack([truth.arrays[a] for a in FIELD_ANGLES])
-        centre, _ = prior_point(grid, priors[worker])
-        distance = np.linalg.norm(np.indices(grid.shape).reshape(3, -1).T - centre, axis=1)
+        if args.offset_error is not None:  # the worker's true angles, and the prior's ties
+            truth = landscape_of(evaluator, grid, progress=False)
+            true_angles = np.column_stack([truth.arrays[a] for a in FIELD_ANGLES])
+            centre, _ = prior_point(grid, priors[worker])
+            distance = np.linalg.norm(np.indices(grid.shape).reshape(3, -1).T - centre, axis=1)
         for seed in run_seeds(part.seed, worker, args.runs):
             source = answers.source(grid, evaluator, part.objective, values,
                                     measured.measurement_rng(seed, answers), {})
