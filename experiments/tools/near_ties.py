@@ -40,7 +40,6 @@ from ergohandover.ergonomics.paper_score import paper_postural
 from ergohandover.landscape.store import landscape_of, landscapes_of
 from ergohandover.search import Budget, make
 from ergohandover.search import run as run_search
-from ergohandover.search.cells import prior_point
 from ergohandover.search.fitted_twin import FIELD_ANGLES
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.personalise import measured_answers as measured
@@ -78,7 +77,7 @@ def paper_scores(angles: np.ndarray) -> np.ndarray:
 
 
 def offset_recommendation(searcher, twins, true_angles: np.ndarray, error_deg: float,
-                          rng: np.random.Generator, distance: np.ndarray) -> int:
+                          rng: np.random.Generator) -> int:
     """The cell of highest probability of being the worker's optimum when every live
     hypothesis's angles are moved by the worker's offset from it (see the module); equal:
     nearest the prior."""
@@ -108,7 +107,7 @@ def offset_recommendation(searcher, twins, true_angles: np.ndarray, error_deg: f
             inside = ((index >= 0) & (index < np.array(shape))).all(axis=1)
             total[np.ravel_multi_index(tuple(index[inside].T), shape)] += weights[k, d]
     best = np.flatnonzero(total == total.max())
-    return int(best[np.argmin(distance[best])])
+    return int(best[np.argmin(searcher.prior_distance[best])])
 
 
 def extra_candidates(config, grid, size: int) -> list[tuple[str, Evaluator]]:
@@ -172,11 +171,9 @@ def main() -> None:
             [c for c in candidates if not own_candidate(c[0], worker)], grid, part.objective,
             worker=(body.stature_m, body.sex), angle_sd_deg=measured.angle_sds(answers),
             error=answers.error)
-        if args.offset_error is not None:  # the worker's true angles, and the prior's ties
+        if args.offset_error is not None:  # the worker's true angles
             truth = landscape_of(evaluator, grid, progress=False)
             true_angles = np.column_stack([truth.arrays[a] for a in FIELD_ANGLES])
-            centre, _ = prior_point(grid, priors[worker])
-            distance = np.linalg.norm(np.indices(grid.shape).reshape(3, -1).T - centre, axis=1)
         for seed in run_seeds(part.seed, worker, args.runs):
             source = answers.source(grid, evaluator, part.objective, values,
                                     measured.measurement_rng(seed, answers), {})
@@ -185,7 +182,7 @@ def main() -> None:
             chosen = searcher.recommend()
             p = searcher.posterior.p_optimal()
             again = chosen.cell if args.offset_error is None else offset_recommendation(
-                searcher, twins, true_angles, args.offset_error, offset_rng, distance)
+                searcher, twins, true_angles, args.offset_error, offset_rng)
             rows.append({"worker": worker, "optimum_cells": len(optimum),
                          "missed": values[chosen.cell] > values.min(),
                          "missed_with_offset": values[again] > values.min(),

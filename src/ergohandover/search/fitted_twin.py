@@ -349,8 +349,10 @@ class FittedTwinSearcher(NewCellSearcher):
         self.posterior = BodyPosterior(twins, prior)
         centre, _ = prior_point(grid, prior)
         index = np.indices(grid.shape).reshape(3, -1).T
-        self._distance = np.linalg.norm(index - centre, axis=1)  # ties: nearest the prior
-        self._nearest = np.argsort(self._distance, kind="stable")
+        self.prior_distance = np.linalg.norm(index - centre, axis=1)
+        """(grid.size,) each cell's distance from the prior's location [cells]: of cells the
+        posterior holds equally probable, the nearest is proposed and recommended."""
+        self._nearest = np.argsort(self.prior_distance, kind="stable")
 
     @property
     def chosen(self) -> int:
@@ -365,7 +367,7 @@ class FittedTwinSearcher(NewCellSearcher):
         """Cells by the optimum's probability, highest first (equal: nearest the prior)."""
         p = self.posterior.p_optimal()
         held = np.flatnonzero(p > 0)  # few cells: sorted alone, then the rest by distance
-        return np.concatenate([held[np.lexsort((self._distance[held], -p[held]))],
+        return np.concatenate([held[np.lexsort((self.prior_distance[held], -p[held]))],
                                self._nearest[p[self._nearest] == 0]])
 
     def recommend(self) -> Recommendation:
