@@ -78,6 +78,23 @@ def kernel(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.exp(-d2 / (2 * LENGTH_M ** 2))
 
 
+def square_root(cov: np.ndarray) -> np.ndarray:
+    """The symmetric square root S (S @ S = cov) of a covariance (m, m), its negative
+    eigenvalues (rounding) taken as 0: a draw ``mean + S @ z`` (z standard normal) has that
+    covariance.
+
+    Not ``vectors * sqrt(values)``: an eigenvector's sign (and its basis within equal
+    eigenvalues) is LAPACK's arbitrary choice, and which it returns changes with the last bit
+    of the covariance, i.e. with the CPU the run is on (OpenBLAS's and numpy's AVX2 and
+    AVX-512 code paths: the same run's covariance differed in its last bit, 2 of its 131
+    eigenvectors came out negated, the draw moved by up to 3.4 prior SDs and the proposal
+    changed). ``S`` is the same whichever basis LAPACK returns, so a run depends on its seed
+    alone.
+    """
+    values, vectors = np.linalg.eigh((cov + cov.T) / 2)
+    return (vectors * np.sqrt(np.clip(values, 0, None))) @ vectors.T
+
+
 class PreferenceModel:
     """The Laplace posterior of the goodness f at ``points`` given the ``pairs``; see the
     module."""
@@ -172,9 +189,8 @@ class PairwiseSearcher(NewCellSearcher):
         if model is None or not feasible:
             return None
         mean, cov = model.posterior(self.grid.coordinates([self.cells[i] for i in feasible]))
-        values, vectors = np.linalg.eigh((cov + cov.T) / 2)
         noise = np.random.default_rng(self.seed).standard_normal((draws, len(feasible)))
-        samples = mean + (noise * np.sqrt(np.clip(values, 0, None))) @ vectors.T
+        samples = mean + noise @ square_root(cov)  # symmetric: each row is S @ its noise
         best = feasible.index(most_preferred(model, answers))
         return float((samples.argmax(axis=1) == best).mean())
 
@@ -204,9 +220,7 @@ class PairwiseSearcher(NewCellSearcher):
         if model is None:
             return int(self._rng.choice(cells))
         mean, cov = model.posterior(self.grid.coordinates(cells))
-        values, vectors = np.linalg.eigh((cov + cov.T) / 2)
-        draw = mean + vectors @ (np.sqrt(np.clip(values, 0, None))
-                                 * self._rng.standard_normal(len(cells)))
+        draw = mean + square_root(cov) @ self._rng.standard_normal(len(cells))
         return int(cells[int(np.argmax(draw))])
 
     def _learn(self, cell: int, score: float) -> None:
