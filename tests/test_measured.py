@@ -138,6 +138,34 @@ def test_measured_runs_report_the_true_regret_of_what_was_observed():
         assert row.harm_ci_low <= row.harm <= row.harm_ci_high
 
 
+def test_a_rows_intervals_do_not_move_when_another_rows_runs_change():
+    from ergohandover.study.personalise.measured_answers import measured_summary
+
+    rng = np.random.default_rng(3)
+    units = [f"w{i}" for i in range(12)]
+
+    def runs(searcher: str, regret: np.ndarray) -> pd.DataFrame:
+        return pd.DataFrame({"worker": np.repeat(units, 3), "twin": "in-model",
+                             "searcher": searcher, "answers": "posture SD 5 deg",
+                             "rule": "model", "budget": 10, "handovers": 10,
+                             "regret": regret, "p_optimal": 0.5})
+
+    kept = runs("kept", rng.integers(0, 3, 36).astype(float))
+    before = runs("changed", np.zeros(36))  # every worker alike: no bootstrap drawn
+    after = runs("changed", rng.integers(0, 3, 36).astype(float))
+    baseline = pd.Series({f"{u}|in-model": 1.0 for u in units})
+
+    def kept_row(other: pd.DataFrame) -> pd.Series:
+        summary = measured_summary(pd.concat([other, kept]), baseline, seed=0)
+        return summary[summary["searcher"] == "kept"].iloc[0]
+
+    first, second = kept_row(before), kept_row(after)
+    assert first["regret_ci_low"] < first["mean_regret"] < first["regret_ci_high"]
+    for column in ("ci_low", "ci_high", "regret_ci_low", "regret_ci_high", "gain_ci_low",
+                   "gain_ci_high", "harm_ci_low", "harm_ci_high"):
+        assert first[column] == second[column], column
+
+
 @pytest.mark.slow
 def test_a_worker_whose_twin_differs_is_scored_by_that_twin():
     import dataclasses

@@ -43,6 +43,7 @@ answers' model), so runs are paired across searchers only in their seeds.
 from __future__ import annotations
 
 import math
+import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -387,8 +388,9 @@ def measured_summary(runs: pd.DataFrame, baseline: pd.Series, seed: int) -> pd.D
     worker's regret at the prior's location, :func:`no_search`; paired per worker, interval:
     bootstrap over workers) and the **harm** (share of runs worse than no search), the
     handovers used and the model's mean stated probability. Out of model, a worker is a worker
-    with one changed twin; the "no search" rows are the baseline itself."""
-    rng = np.random.default_rng(seed)
+    with one changed twin; the "no search" rows are the baseline itself. Each row's intervals
+    draw from a generator of its own (the seed and the row's key), so a row's interval does not
+    move when another row's runs change."""
     runs = runs.assign(model=runs["twin"].map(model_of),
                        unit=runs["worker"] + "|" + runs["twin"])
     runs["baseline"] = runs["unit"].map(baseline)
@@ -398,6 +400,7 @@ def measured_summary(runs: pd.DataFrame, baseline: pd.Series, seed: int) -> pd.D
         regret=lambda t: t["baseline"], p_optimal=np.nan)
     rows = []
     for key, table in pd.concat([first, runs], ignore_index=True).groupby(keys, sort=False):
+        rng = np.random.default_rng([seed, zlib.crc32("|".join(map(str, key)).encode())])
         units = table["unit"].to_numpy()
         zero = (table["regret"] == 0).to_numpy()
         per_worker = pd.Series(zero).groupby(units).mean().to_numpy()
