@@ -2,7 +2,7 @@
 cannot split.
 
 Usage: python experiments/tools/near_ties.py [--workers 1-30] [--runs 5] [--budget 10]
-       [--answers posture:5|imu:1] [--extra-bodies N] [--offset-error SD]
+       [--answers posture:5|imu:1] [--extra-bodies N] [--offset-error SD] [--soft-optimum SD]
 
 Runs the fitted twin as the personalisation study runs it (the study's seeds, candidates and
 answers; the landscapes from the cache) and, for every run whose recommendation is not the
@@ -13,7 +13,7 @@ as its recommendation is a near-tie: at the paper score's 2-3 degree thresholds,
 with degrees of error cannot tell the two apart. A miss where it holds the optimum improbable
 is the model's (its candidate bodies do not cover the worker).
 
-Two questions about the model's limits:
+Three questions about the model's limits:
 
 - ``--extra-bodies N``: would more candidate bodies cover the workers better? N more bodies of
   the survey's model (the population's draw with the next seed), swept into the landscape
@@ -25,12 +25,18 @@ Two questions about the model's limits:
   each angle (0: known exactly), and rescored with the paper's score; the misses of both are
   printed. Only cells within :data:`RESCORED` points of a candidate's own lowest are rescored
   (an offset of a few degrees moves a cell's score by a point or two).
+- ``--soft-optimum SD``: would the middle of a plateau be safer? Each candidate's optimum is
+  counted as the share of :data:`SOFT_DRAWS` offsets, drawn with SD degrees on every angle
+  (the same offset at every cell), under which a cell is among the candidate's lowest,
+  rescored as ``--offset-error`` rescores: a cell near a band edge counts for less. The search
+  runs with it (proposals and recommendation).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import zlib
 
 import numpy as np
 import pandas as pd
@@ -40,7 +46,7 @@ from ergohandover.ergonomics.paper_score import paper_postural
 from ergohandover.landscape.store import landscape_of, landscapes_of
 from ergohandover.search import Budget, make
 from ergohandover.search import run as run_search
-from ergohandover.search.fitted_twin import FIELD_ANGLES
+from ergohandover.search.fitted_twin import FIELD_ANGLES, BodyPosterior
 from ergohandover.study.config import StudyConfig
 from ergohandover.study.personalise import measured_answers as measured
 from ergohandover.study.personalise.sessions import (
@@ -65,6 +71,8 @@ LIVE = 1e-3
 """Hypotheses at least this share of the heaviest are rescored with an offset."""
 RESCORED = 2
 """Cells within this many points of a candidate's lowest score are rescored with an offset."""
+SOFT_DRAWS = 64
+"""Offsets drawn per candidate for ``--soft-optimum``."""
 
 
 def paper_scores(angles: np.ndarray) -> np.ndarray:
@@ -110,6 +118,32 @@ def offset_recommendation(searcher, twins, true_angles: np.ndarray, error_deg: f
     return int(best[np.argmin(searcher.prior_distance[best])])
 
 
+class SoftOptimum(BodyPosterior):
+    """The fitted twin's posterior with each candidate's optimum softened: a cell holds the
+    share of offsets (SD :attr:`sd` degrees on every angle, one offset for every cell) under
+    which it is among the candidate's lowest (see the module)."""
+
+    def __init__(self, library, prior, sd: float):
+        super().__init__(library, prior)
+        self.sd = sd
+
+    def optimum_of(self, candidate: int) -> tuple[np.ndarray, np.ndarray]:
+        twins = self.library
+        key = (twins.names[candidate], f"soft optimum {self.sd:g}")
+        if key not in twins._kept:
+            values = twins.values(candidate)
+            near = np.flatnonzero(values <= values.min() + RESCORED)
+            base = twins.angles(near, [candidate])[0]
+            rest = values[near] - paper_scores(base)
+            rng = np.random.default_rng(zlib.crc32(key[0].encode()))
+            offsets = rng.normal(0.0, self.sd, (SOFT_DRAWS, base.shape[1]))
+            scores = rest + paper_scores((base[None] + offsets[:, None]).reshape(
+                -1, base.shape[1])).reshape(SOFT_DRAWS, -1)
+            share = (scores == scores.min(axis=1, keepdims=True)).mean(axis=0)
+            twins._kept[key] = near[share > 0], share[share > 0]
+        return twins._kept[key]
+
+
 def extra_candidates(config, grid, size: int) -> list[tuple[str, Evaluator]]:
     """``size`` more bodies of the survey's model (the population's draw with the next seed),
     their landscapes swept into the cache."""
@@ -134,19 +168,26 @@ def main() -> None:
     parser.add_argument("--offset-error", type=float, default=None,
                         help="recommend again with each hypothesis's angles moved by the "
                         "worker's offset from it, known to within this SD [deg]")
+    parser.add_argument("--soft-optimum", type=float, default=None,
+                        help="search with each candidate's optimum softened by offsets of "
+                        "this SD on every angle [deg]")
     args = parser.parse_args()
     if args.extra_bodies < 0:
         parser.error(f"--extra-bodies {args.extra_bodies}: expected a whole number, at least 0")
     if args.offset_error is not None and not args.offset_error >= 0:
         parser.error(f"--offset-error {args.offset_error:g}: expected degrees, at least 0")
+    if args.soft_optimum is not None and not args.soft_optimum > 0:
+        parser.error(f"--soft-optimum {args.soft_optimum:g}: expected degrees, more than 0")
     first, last = map(int, args.workers.split("-"))
     kind, level = args.answers.split(":")
     answers = measured.Answers(kind, float(level))
     config = StudyConfig()
     part = config.personalise
-    if args.offset_error is not None and part.objective != "paper_postural":
-        parser.error(f"--offset-error rescores the paper's score; the study's objective is "
-                     f"{part.objective}")
+    for flag, value in (("--offset-error", args.offset_error),
+                        ("--soft-optimum", args.soft_optimum)):
+        if value is not None and part.objective != "paper_postural":
+            parser.error(f"{flag} rescores the paper's score; the study's objective is "
+                         f"{part.objective}")
     table = config.population.workers()
     population = pd.read_csv("results/population/workers.csv")
     evaluators = [Evaluator(b, config.task()) for b in bodies(table)]
@@ -178,6 +219,8 @@ def main() -> None:
             source = answers.source(grid, evaluator, part.objective, values,
                                     measured.measurement_rng(seed, answers), {})
             searcher = make("fitted-twin", grid, seed, priors[worker], twins=twins)
+            if args.soft_optimum is not None:
+                searcher.posterior = SoftOptimum(twins, priors[worker], args.soft_optimum)
             run_search(searcher, source, Budget(evaluations=args.budget))
             chosen = searcher.recommend()
             p = searcher.posterior.p_optimal()

@@ -302,6 +302,12 @@ class BodyPosterior:
                          if share.sum() > 0 else math.inf)
         return np.array(found)
 
+    def optimum_of(self, candidate: int) -> tuple[np.ndarray, np.ndarray]:
+        """A candidate's optimum as flat cells and the share of the candidate's weight each
+        holds: every cell at its lowest score, each wholly."""
+        cells = self.library.optimum(candidate)
+        return cells, np.ones(len(cells))
+
     def p_optimal(self) -> np.ndarray:
         """(grid.size,) each cell's posterior probability of being the worker's optimum: the
         summed weight of the hypotheses whose optimum includes it (an optimum is a plateau of
@@ -309,14 +315,15 @@ class BodyPosterior:
         if self._p_optimal is None:
             weights = self.weights
             live = np.flatnonzero(weights.max(axis=1) > PRUNE * weights.max())
-            optima = [self.library.optimum(int(k)) for k in live]
-            cells = np.concatenate(optima)
-            owner = np.repeat(live, [len(o) for o in optima])
+            optima = [self.optimum_of(int(k)) for k in live]
+            cells = np.concatenate([c for c, _ in optima])
+            share = np.concatenate([s for _, s in optima])
+            owner = np.repeat(live, [len(c) for c, _ in optima])
             shape = tuple(int(n) for n in self.shape)
             total = np.zeros(shape)
             # Per displacement, every candidate's optimum weighed at once, then moved by it.
             for d, shift in enumerate(self.shifts):
-                field = np.bincount(cells, weights[owner, d], minlength=total.size)
+                field = np.bincount(cells, weights[owner, d] * share, minlength=total.size)
                 pairs = list(zip(shift.tolist(), shape, strict=True))
                 source = tuple(slice(max(0, -m), n - max(0, m)) for m, n in pairs)
                 target = tuple(slice(max(0, m), n - max(0, -m)) for m, n in pairs)
