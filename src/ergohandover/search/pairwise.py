@@ -84,12 +84,10 @@ def square_root(cov: np.ndarray) -> np.ndarray:
     covariance.
 
     Not ``vectors * sqrt(values)``: an eigenvector's sign (and its basis within equal
-    eigenvalues) is LAPACK's arbitrary choice, and which it returns changes with the last bit
-    of the covariance, i.e. with the CPU the run is on (OpenBLAS's and numpy's AVX2 and
-    AVX-512 code paths: the same run's covariance differed in its last bit, 2 of its 131
-    eigenvectors came out negated, the draw moved by up to 3.4 prior SDs and the proposal
-    changed). ``S`` is the same whichever basis LAPACK returns, so a run depends on its seed
-    alone.
+    eigenvalues) is LAPACK's arbitrary choice, and which it returns can change with the last
+    bit of the covariance, and so with the processor's numerical code paths (AVX2 or AVX-512
+    kernels of the same libraries). ``S`` is the same whichever basis LAPACK returns, so a run
+    depends on its seed alone.
     """
     values, vectors = np.linalg.eigh((cov + cov.T) / 2)
     return (vectors * np.sqrt(np.clip(values, 0, None))) @ vectors.T
