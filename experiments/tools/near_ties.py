@@ -84,6 +84,19 @@ def paper_scores(angles: np.ndarray) -> np.ndarray:
     return paper_postural(Posture(columns))["paper_postural"].astype(float)
 
 
+def rescored(twins, candidate: int, offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A candidate's cells within :data:`RESCORED` points of its lowest, (cells,), and their
+    paper score with each offset (offsets, :data:`FIELD_ANGLES`) [deg] added to the candidate's
+    angles there, (offsets, cells)."""
+    values = twins.values(candidate)
+    near = np.flatnonzero(values <= values.min() + RESCORED)
+    base = twins.angles(near, [candidate])[0]
+    # What the field's angles do not hold (hands above the neck, say) is kept as it was.
+    rest = values[near] - paper_scores(base)
+    moved = (base[None] + offsets[:, None]).reshape(-1, base.shape[1])
+    return near, rest + paper_scores(moved).reshape(len(offsets), -1)
+
+
 def offset_recommendation(searcher, twins, true_angles: np.ndarray, error_deg: float,
                           rng: np.random.Generator) -> int:
     """The cell of highest probability of being the worker's optimum when every live
@@ -98,24 +111,22 @@ def offset_recommendation(searcher, twins, true_angles: np.ndarray, error_deg: f
     live = weights >= LIVE * weights.max()
     for k in np.flatnonzero(live.any(axis=1)):
         field = twins.angles(np.arange(total.size), [int(k)])[0]
-        values = twins.values(int(k))
-        near = np.flatnonzero(values <= values.min() + RESCORED)
-        base = field[near]
-        # What the field's angles do not hold (hands above the neck, say) is kept as it was.
-        rest = values[near] - paper_scores(base)
         shifts = np.flatnonzero(live[k])
         offsets = np.nan_to_num(np.nanmean(
             true_angles[tried][None] - field[sources[:, shifts].T], axis=1))  # (shifts, angles)
         offsets += rng.normal(0.0, error_deg, offsets.shape)
-        rescored = rest + paper_scores((base[None] + offsets[:, None]).reshape(
-            -1, base.shape[1])).reshape(len(shifts), -1)
-        for d, scores in zip(shifts, rescored, strict=True):
+        near, scored = rescored(twins, int(k), offsets)
+        for d, scores in zip(shifts, scored, strict=True):
             index = np.array(np.unravel_index(near[scores == scores.min()], shape)).T
             index += posterior.shifts[d]
             inside = ((index >= 0) & (index < np.array(shape))).all(axis=1)
             total[np.ravel_multi_index(tuple(index[inside].T), shape)] += weights[k, d]
     best = np.flatnonzero(total == total.max())
     return int(best[np.argmin(searcher.prior_distance[best])])
+
+
+_SOFT: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]] = {}
+"""Each candidate's softened optimum by (name, SD), shared by every run and worker."""
 
 
 class SoftOptimum(BodyPosterior):
@@ -128,20 +139,14 @@ class SoftOptimum(BodyPosterior):
         self.sd = sd
 
     def optimum_of(self, candidate: int) -> tuple[np.ndarray, np.ndarray]:
-        twins = self.library
-        key = (twins.names[candidate], f"soft optimum {self.sd:g}")
-        if key not in twins._kept:
-            values = twins.values(candidate)
-            near = np.flatnonzero(values <= values.min() + RESCORED)
-            base = twins.angles(near, [candidate])[0]
-            rest = values[near] - paper_scores(base)
+        key = (self.library.names[candidate], self.sd)
+        if key not in _SOFT:
             rng = np.random.default_rng(zlib.crc32(key[0].encode()))
-            offsets = rng.normal(0.0, self.sd, (SOFT_DRAWS, base.shape[1]))
-            scores = rest + paper_scores((base[None] + offsets[:, None]).reshape(
-                -1, base.shape[1])).reshape(SOFT_DRAWS, -1)
+            offsets = rng.normal(0.0, self.sd, (SOFT_DRAWS, len(FIELD_ANGLES)))
+            near, scores = rescored(self.library, candidate, offsets)
             share = (scores == scores.min(axis=1, keepdims=True)).mean(axis=0)
-            twins._kept[key] = near[share > 0], share[share > 0]
-        return twins._kept[key]
+            _SOFT[key] = near[share > 0], share[share > 0]
+        return _SOFT[key]
 
 
 def extra_candidates(config, grid, size: int) -> list[tuple[str, Evaluator]]:
